@@ -1,0 +1,103 @@
+// talus: the command-line front end. Sub-commands: run, verify, info.
+// Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
+#include "talus/core/errors.hpp"
+#include "talus/io/case_reader.hpp"
+#include "talus/solver/run.hpp"
+#include "talus/verify/verification.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <fmt/format.h>
+#include <omp.h>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace talus;
+
+int print_info() {
+  fmt::print("talus {}\n", TALUS_VERSION);
+  fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
+  fmt::print("dimension       2 (plane strain)\n");
+  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC blend)\n");
+  fmt::print("shape functions linear, gimp (uGIMP)\n");
+  fmt::print("materials       linear_elastic, neo_hookean\n");
+  fmt::print("OpenMP threads  {} available\n", omp_get_max_threads());
+  fmt::print("results         HDF5 + XDMF (ParaView), CSV, JSON\n");
+  fmt::print("data directory  {}\n", verification_dir().parent_path().string());
+  return kExitOk;
+}
+
+int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
+                const std::string& out, bool force, int threads) {
+  const CaseSpec spec = read_case_file(case_file, overrides);
+  RunOptions options;
+  options.out_dir = out;
+  options.force = force;
+  options.threads = threads;
+  const RunResult r = run_case(spec, options);
+  fmt::print("{}: {} — {} steps to t = {:g}, {} frames, {} particles, {:.2f} s -> {}\n", spec.name,
+             r.status, r.steps, r.final_time, r.frames, r.particles, r.wall_seconds,
+             r.out_dir.string());
+  if (!r.message.empty())
+    fmt::print(stderr, "talus: {}\n", r.message);
+  return r.exit_code;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Talus: material point method for geomechanics"};
+  app.require_subcommand(1);
+
+  auto* run = app.add_subcommand("run", "Run a case file; results go to results/<case name>/");
+  std::string case_file, out_dir;
+  std::vector<std::string> overrides;
+  bool force = false;
+  int threads = 0;
+  run->add_option("case", case_file, "Case file (YAML)")->required();
+  run->add_option("--out", out_dir, "Output directory (default results/<case name>)");
+  run->add_option("--set", overrides,
+                  "Override a case key, e.g. --set solver.shape=linear (repeatable)");
+  run->add_flag("--force", force, "Replace the results of an earlier run in the directory");
+  run->add_option("--threads", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
+  auto* verify = app.add_subcommand("verify", "Run the verification suite and write a report");
+  VerifyOptions verify_options;
+  verify->add_option("--tier", verify_options.tier, "Which cases: fast or full")
+      ->check(CLI::IsMember({"fast", "full"}));
+  verify->add_option("--out", verify_options.out_dir, "Report directory (default results/verify)");
+  verify->add_option("--case", verify_options.only, "Run only this case (repeatable)");
+  verify->add_option("--threads", verify_options.threads, "OpenMP threads")
+      ->check(CLI::NonNegativeNumber);
+
+  auto* info = app.add_subcommand("info", "Version, build options and available backends");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+
+  try {
+    if (*run)
+      return run_command(case_file, overrides, out_dir, force, threads);
+    if (*verify)
+      return run_verification(verify_options);
+    if (*info)
+      return print_info();
+  } catch (const InputError& e) {
+    fmt::print(stderr, "talus: error: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const NumericalError& e) {
+    fmt::print(stderr, "talus: numerical failure: {}\n", e.what());
+    return kExitNumerical;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "talus: {}\n", e.what());
+    return kExitOther;
+  }
+  return kExitOther;
+}

@@ -1,0 +1,47 @@
+#pragma once
+// Material points as a structure of arrays. Only the fields a scene needs are allocated: the
+// always-present kinematic core below, plus optional blocks a later feature switches on.
+#include "talus/core/types.hpp"
+
+namespace talus {
+
+template <int Dim> struct Particles {
+  // --- always present -------------------------------------------------------------------------
+  Array<Vec<Dim>> x;          ///< current position, m
+  Array<Vec<Dim>> v;          ///< velocity, m/s
+  Array<double> mass;         ///< kg (per unit thickness in 2D)
+  Array<double> volume0;      ///< initial volume, m^3 (per unit thickness in 2D)
+  Array<double> volume;       ///< current volume = det(F) * volume0
+  Array<Mat<Dim>> F;          ///< deformation gradient (in-plane block; F33 = 1 in plane strain)
+  Array<Mat3> stress;         ///< Cauchy stress, Pa; full 3x3 so plane strain keeps sigma_zz
+  Array<Vec<Dim>> half_size0; ///< half the initial voxel edge lengths (GIMP half-width, voxels)
+  Array<Vec<Dim>> x0;         ///< initial position (voxel reference point, colour patterns)
+  Array<int> material;        ///< index into the scene's materials
+  Array<int> body;            ///< index into the scene's bodies
+  Array<Vec<Dim>> external_force; ///< point loads and tractions, N (per unit thickness)
+
+  // --- optional blocks (empty unless the scene needs them) -------------------------------------
+  Array<Mat<Dim>> affine_velocity; ///< APIC's C_p = B_p D_p^-1 (transfer apic only)
+
+  Index size() const { return static_cast<Index>(x.size()); }
+
+  void resize(Index n) {
+    const auto s = static_cast<std::size_t>(n);
+    x.resize(s);
+    v.resize(s);
+    mass.resize(s);
+    volume0.resize(s);
+    volume.resize(s);
+    F.resize(s, Mat<Dim>::Identity());
+    stress.resize(s, Mat3::Zero());
+    half_size0.resize(s);
+    x0.resize(s);
+    material.resize(s);
+    body.resize(s);
+    external_force.resize(s, Vec<Dim>::Zero());
+    if (!affine_velocity.empty())
+      affine_velocity.resize(s, Mat<Dim>::Zero());
+  }
+};
+
+} // namespace talus

@@ -1,0 +1,136 @@
+#pragma once
+// The validated, typed content of a case file. The reader (case_reader.hpp) fills it; nothing
+// downstream looks at YAML again. Every field documents its unit and default; the same text
+// lives in docs/case-format.md.
+#include "talus/core/errors.hpp"
+#include "talus/core/types.hpp"
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+enum class AnalysisType { Explicit };
+enum class ShapeFunction { Linear, Gimp };
+enum class UpdateScheme { USL, USF, MUSL };
+/// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
+/// an affine velocity per particle so affine fields such as a rigid spin transfer exactly.
+enum class TransferScheme { Flip, Apic };
+enum class MaterialModel { LinearElastic, NeoHookean };
+enum class BodyShape { Rectangle, Disc, Polygon };
+enum class FaceCondition { Free, Fixed, Roller };
+enum class Side { Left, Right, Bottom, Top };
+
+struct GridSpec {
+  Vec2 origin{0.0, 0.0}; ///< m, lower-left corner
+  Vec2 extent{1.0, 1.0}; ///< m, size in x and y (required)
+  double cell_size = 0;  ///< m, square cells (required); extent must be a whole number of cells
+  SourceLocation where;
+};
+
+struct MaterialSpec {
+  std::string name;                                   ///< required, unique
+  MaterialModel model = MaterialModel::LinearElastic; ///< required
+  double density = 0;                                 ///< kg/m^3, > 0 (required)
+  double youngs_modulus = 0;                          ///< Pa, > 0 (required)
+  double poisson_ratio = 0;                           ///< -, in (-1, 0.5) (required)
+  SourceLocation where;
+};
+
+struct BodySpec {
+  std::string name; ///< required, unique
+  BodyShape shape = BodyShape::Rectangle;
+  std::string material;    ///< name of a MaterialSpec (required)
+  int material_index = -1; ///< resolved by the reader
+  // rectangle
+  Vec2 min{0, 0}, max{0, 0}; ///< m
+  // disc
+  Vec2 centre{0, 0}; ///< m
+  double radius = 0; ///< m, > 0
+  // polygon (counter-clockwise or clockwise, simple)
+  std::vector<Vec2> vertices; ///< m, at least 3
+  int particles_per_cell = 2; ///< per direction, >= 1 (default 2)
+  Vec2 velocity{0, 0};        ///< m/s, initial translational velocity (default 0)
+  /// Per component: an expression of the initial position (x, y) that replaces velocity[d],
+  /// e.g. "0.01 * sin(pi / 50 * x)"; empty when the component is a number.
+  std::array<std::string, 2> velocity_expression;
+  double angular_velocity = 0; ///< rad/s, initial rigid spin about the body's centroid (default 0)
+  SourceLocation where;
+};
+
+struct BoundarySpec {
+  FaceCondition x_min = FaceCondition::Free, x_max = FaceCondition::Free;
+  FaceCondition y_min = FaceCondition::Free, y_max = FaceCondition::Free;
+};
+
+struct PointLoadSpec {
+  std::string name; ///< optional label (default "load<i>")
+  Vec2 point{0, 0}; ///< m, applied to the particle nearest to this point at t = 0
+  Vec2 force{0, 0}; ///< N per unit thickness
+  SourceLocation where;
+};
+
+struct TractionSpec {
+  std::string body; ///< rectangle body name
+  int body_index = -1;
+  Side side = Side::Top;
+  Vec2 traction{0, 0}; ///< Pa (N/m^2 on the side, per unit thickness)
+  SourceLocation where;
+};
+
+struct TimeSpec {
+  double end_time = 0;        ///< s, > 0 (required)
+  std::optional<double> dt;   ///< s, > 0: fixed step; exactly one of dt and cfl
+  std::optional<double> cfl;  ///< -, in (0, 1): dt = cfl * h / max(c_p + |v|)
+  Index max_steps = 10000000; ///< safety cap (default 1e7)
+};
+
+enum class OutputField { Velocity, Mass, Volume, DeformationGradient, Stress, Material };
+
+struct OutputSpec {
+  std::optional<Index> every_steps; ///< write a frame every N steps; default: 20 frames per run
+  std::optional<double> every_time; ///< s, write a frame every interval
+  std::vector<OutputField> fields{OutputField::Velocity, OutputField::Mass,
+                                  OutputField::Volume,   OutputField::DeformationGradient,
+                                  OutputField::Stress,   OutputField::Material};
+};
+
+struct ProbeSpec {
+  std::string name;              ///< required, unique; used in timeseries.csv column names
+  std::optional<Index> particle; ///< particle index, or
+  std::optional<Vec2> point;     ///< m, nearest particle at t = 0
+  SourceLocation where;
+};
+
+struct SolverSpec {
+  ShapeFunction shape = ShapeFunction::Gimp;      ///< default gimp
+  UpdateScheme scheme = UpdateScheme::MUSL;       ///< default musl
+  TransferScheme transfer = TransferScheme::Flip; ///< default flip
+  /// With transfer flip: FLIP fraction in [0, 1] of the particle velocity update
+  /// (1 = FLIP, 0 = PIC). Ignored by apic.
+  double flip = 1.0;
+};
+
+struct CaseSpec {
+  std::string name;                   ///< required; default output dir results/<name>
+  std::string source_file;            ///< path the case was read from
+  std::string source_text;            ///< verbatim case file text (embedded in run.h5)
+  std::vector<std::string> overrides; ///< the --set strings applied, in order
+  AnalysisType analysis = AnalysisType::Explicit;
+  int dimension = 2; ///< only 2 (plane strain) for now
+  GridSpec grid;
+  std::vector<MaterialSpec> materials;
+  std::vector<BodySpec> bodies;
+  Vec2 gravity{0, 0}; ///< m/s^2 (default 0)
+  BoundarySpec boundaries;
+  std::vector<PointLoadSpec> point_loads;
+  std::vector<TractionSpec> tractions;
+  TimeSpec time;
+  OutputSpec output;
+  std::vector<ProbeSpec> probes;
+  SolverSpec solver;
+};
+
+} // namespace talus

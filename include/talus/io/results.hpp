@@ -1,0 +1,107 @@
+#pragma once
+// Results of one run in a directory: run.h5 (frames), run.xmf (ParaView), timeseries.csv and
+// summary.json. Layout documented in docs/output-format.md.
+#include "talus/core/particles.hpp"
+#include "talus/io/case_spec.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+/// Run-wide facts stored once in run.h5 (/metadata) and used by the XDMF sidecar.
+struct RunMetadata {
+  std::string case_name;
+  std::string case_file;
+  std::string case_text; ///< the case file verbatim
+  std::vector<std::string> overrides;
+  std::string version;
+  int dimension = 2;
+  Vec2 grid_origin{0, 0};
+  Vec2 grid_extent{0, 0};
+  double cell_size = 0;
+  std::vector<std::string> material_names;
+  std::vector<std::string> body_names;
+};
+
+/// Appends frames to run.h5 and keeps run.xmf in step. The file is opened and closed around
+/// every frame (and run.xmf replaced atomically), so every complete frame stays readable if the
+/// run is interrupted later.
+class ResultsWriter {
+public:
+  /// Creates `dir`/run.h5 (replacing an existing one) and writes the metadata.
+  ResultsWriter(std::filesystem::path dir, RunMetadata metadata);
+  void write_frame(Index step, double time, const Particles<2>& particles,
+                   const std::vector<OutputField>& fields);
+  Index frames_written() const { return frames_; }
+  const std::filesystem::path& h5_path() const { return h5_path_; }
+
+private:
+  void write_xdmf() const;
+  std::filesystem::path dir_, h5_path_, xmf_path_;
+  RunMetadata metadata_;
+  Index frames_ = 0;
+  struct FrameInfo {
+    Index step;
+    double time;
+    Index particles;
+    std::vector<OutputField> fields;
+  };
+  std::vector<FrameInfo> frame_info_;
+};
+
+/// Reads run.h5 back (tests, `talus render`, restart).
+class ResultsReader {
+public:
+  explicit ResultsReader(const std::filesystem::path& h5_file);
+  ~ResultsReader();
+  ResultsReader(const ResultsReader&) = delete;
+  ResultsReader& operator=(const ResultsReader&) = delete;
+
+  Index frame_count() const;
+  double frame_time(Index frame) const;
+  Index frame_step(Index frame) const;
+  /// Names of the particle datasets in a frame ("position", "velocity", ...).
+  std::vector<std::string> frame_fields(Index frame) const;
+  /// A dataset as rows x columns, row-major.
+  std::vector<double> read(Index frame, const std::string& field, Index* rows, Index* cols) const;
+  std::string case_text() const;
+  std::string metadata_string(const std::string& name) const;
+
+private:
+  long long file_ = -1; // hid_t, kept opaque so users need no HDF5 headers
+};
+
+/// timeseries.csv: one header line, one row per call, flushed so a killed run keeps its rows.
+class TimeSeriesWriter {
+public:
+  TimeSeriesWriter(const std::filesystem::path& file, std::vector<std::string> columns);
+  ~TimeSeriesWriter();
+  TimeSeriesWriter(const TimeSeriesWriter&) = delete;
+  TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;
+  void append(const std::vector<double>& row);
+
+private:
+  std::FILE* file_ = nullptr;
+  std::size_t columns_ = 0;
+};
+
+/// Writes summary.json atomically (temporary file + rename). Values are already JSON-encoded
+/// by the caller through the helpers below, keeping this header free of a JSON library.
+struct RunSummary {
+  std::string case_name;
+  std::string status; ///< "completed", "numerical_failure", "interrupted"
+  std::string message;
+  Index steps = 0;
+  double final_time = 0;
+  Index particles = 0;
+  Index frames = 0;
+  double wall_seconds = 0;
+  std::map<std::string, double> extra; ///< further numbers (later solvers add timings)
+};
+void write_summary_json(const std::filesystem::path& file, const RunSummary& summary);
+
+} // namespace talus

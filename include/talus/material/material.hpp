@@ -1,0 +1,77 @@
+#pragma once
+// Constitutive models. A model is evaluated for a whole batch of particles per call (one
+// virtual call per material per step, never per particle). Kinematics enter as the full 3x3
+// deformation gradient: plane strain embeds the in-plane block with F33 = 1.
+#include "talus/core/types.hpp"
+#include "talus/io/case_spec.hpp"
+
+#include <memory>
+#include <span>
+#include <string>
+
+namespace talus {
+
+struct LameParameters {
+  double lambda = 0;
+  double mu = 0;
+  static LameParameters from_young_poisson(double E, double nu) {
+    return {E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))};
+  }
+  double p_wave_modulus() const { return lambda + 2.0 * mu; }
+};
+
+inline Mat3 embed_plane_strain(const Mat2& F2) {
+  Mat3 F = Mat3::Identity();
+  F.topLeftCorner<2, 2>() = F2;
+  return F;
+}
+
+class Material {
+public:
+  Material(std::string name, double density, LameParameters lame)
+      : name_(std::move(name)), density_(density), lame_(lame) {}
+  virtual ~Material() = default;
+
+  const std::string& name() const { return name_; }
+  double density() const { return density_; }
+  const LameParameters& lame() const { return lame_; }
+  /// Speed of the fastest (pressure) wave at the reference state, m/s; used for the CFL step.
+  double wave_speed() const;
+
+  /// Cauchy stress for every particle in `ids` from its deformation gradient.
+  virtual void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+                             std::span<Mat3> stress) const = 0;
+  /// Stored (strain) energy per unit reference volume.
+  virtual double energy_density(const Mat3& F) const = 0;
+
+private:
+  std::string name_;
+  double density_;
+  LameParameters lame_;
+};
+
+/// Small-strain linear elasticity on the total strain eps = sym(F) - I. Exact for small
+/// displacements; not objective under large rotation (use neo_hookean there).
+class LinearElastic final : public Material {
+public:
+  using Material::Material;
+  Mat3 stress(const Mat3& F) const;
+  void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+                     std::span<Mat3> stress) const override;
+  double energy_density(const Mat3& F) const override;
+};
+
+/// Compressible neo-Hookean: sigma = mu/J (b - I) + lambda ln(J)/J I,
+/// psi = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2. Objective; J <= 0 is an error.
+class NeoHookean final : public Material {
+public:
+  using Material::Material;
+  Mat3 stress(const Mat3& F) const;
+  void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+                     std::span<Mat3> stress) const override;
+  double energy_density(const Mat3& F) const override;
+};
+
+std::unique_ptr<Material> make_material(const MaterialSpec& spec);
+
+} // namespace talus

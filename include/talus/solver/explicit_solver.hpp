@@ -1,0 +1,39 @@
+#pragma once
+// Explicit dynamic MPM (USL, USF, MUSL) with a FLIP/PIC blend. One step:
+//   locate points -> active grid -> P2G (gather) -> grid update + constraints -> G2P
+//   -> F, volume and stress update (order per scheme).
+// The particle-to-grid transfer is written as a gather: every active node sums over the
+// particles of the neighbouring bins in a fixed order. No two threads write the same node, so
+// the result is bitwise identical for any thread count.
+#include "talus/core/scene.hpp"
+
+#include <array>
+#include <memory>
+
+namespace talus {
+
+struct Energies {
+  double kinetic = 0;  ///< J per unit thickness
+  double strain = 0;   ///< J per unit thickness
+  double gravity = 0;  ///< potential -sum m g.x, J per unit thickness
+  Vec2 momentum{0, 0}; ///< kg m/s per unit thickness
+};
+
+class ExplicitSolver {
+public:
+  virtual ~ExplicitSolver() = default;
+  /// Advances by dt; throws NumericalError on a particle that leaves the grid or a material
+  /// that cannot be evaluated.
+  virtual void step(double dt) = 0;
+  /// Largest stable step for the CFL number: cfl * h / max_p (c_p + |v_p|).
+  virtual double stable_dt(double cfl) const = 0;
+  virtual Energies energies() const = 0;
+  /// Reaction force on each grid face from the last step (sum over constrained nodes), N.
+  virtual std::array<Vec2, kFaceCount> reactions() const = 0;
+  virtual Index active_nodes() const = 0;
+};
+
+/// Picks the shape-function instantiation once, for the whole run.
+std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<2>& scene);
+
+} // namespace talus

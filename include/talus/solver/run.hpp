@@ -1,0 +1,36 @@
+#pragma once
+// Runs one case end to end: builds the scene, steps the solver, writes run.h5/run.xmf frames,
+// timeseries.csv rows and summary.json, and shows progress. Bad input surfaces as InputError
+// before anything is written; numerical failure ends the run with the earlier frames intact.
+#include "talus/io/case_spec.hpp"
+
+#include <filesystem>
+#include <string>
+
+namespace talus {
+
+struct RunOptions {
+  std::filesystem::path out_dir; ///< empty: results/<case name>
+  bool force = false;            ///< replace the result files of an earlier run in out_dir
+  int threads = 0;               ///< OpenMP threads; 0 keeps the OpenMP default
+  bool progress = true;          ///< progress line (terminal) or periodic log lines
+};
+
+struct RunResult {
+  std::filesystem::path out_dir;
+  std::string status; ///< "completed", "numerical_failure" or "interrupted"
+  std::string message;
+  Index steps = 0;
+  double final_time = 0;
+  Index frames = 0;
+  Index particles = 0;
+  double wall_seconds = 0;
+  int exit_code = 0; ///< 0, 1 (interrupted) or 3 (numerical failure)
+};
+
+/// Checks that `dir` may receive results (absent, empty, or `force`); throws InputError.
+void prepare_output_directory(const std::filesystem::path& dir, bool force);
+
+RunResult run_case(const CaseSpec& spec, const RunOptions& options);
+
+} // namespace talus

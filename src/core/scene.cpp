@@ -1,0 +1,262 @@
+#include "talus/core/scene.hpp"
+
+#include "talus/core/errors.hpp"
+#include "talus/core/expression.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+namespace talus {
+
+const char* face_name(int face) {
+  static const char* names[] = {"x_min", "x_max", "y_min", "y_max"};
+  return names[face];
+}
+
+namespace {
+
+bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& q) {
+  // Crossing-number test on a half-open rule, so a lattice point on an edge is counted once.
+  bool in = false;
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[j];
+    if ((a.y() > q.y()) != (b.y() > q.y())) {
+      const double x_cross = a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (q.x() < x_cross)
+        in = !in;
+    }
+  }
+  return in;
+}
+
+bool inside_body(const BodySpec& b, const Vec2& q) {
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    return q.x() >= b.min.x() && q.x() <= b.max.x() && q.y() >= b.min.y() && q.y() <= b.max.y();
+  case BodyShape::Disc:
+    return (q - b.centre).squaredNorm() <= b.radius * b.radius;
+  case BodyShape::Polygon:
+    return inside_polygon(b.vertices, q);
+  }
+  return false;
+}
+
+void bounding_box(const BodySpec& b, Vec2& lo, Vec2& hi) {
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    lo = b.min;
+    hi = b.max;
+    return;
+  case BodyShape::Disc:
+    lo = b.centre.array() - b.radius;
+    hi = b.centre.array() + b.radius;
+    return;
+  case BodyShape::Polygon:
+    lo = hi = b.vertices.front();
+    for (const Vec2& v : b.vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    return;
+  }
+}
+
+// Fills particles of one body on a lattice of spacing h / ppc aligned with the grid: one point
+// at the centre of every sub-cell whose centre lies inside the body.
+void add_body(Scene<2>& scene, const BodySpec& body, int body_index) {
+  const auto& grid = scene.grid;
+  const double spacing = grid.cell_size() / body.particles_per_cell;
+  Vec2 lo, hi;
+  bounding_box(body, lo, hi);
+  const Vec2 origin = grid.origin();
+  std::array<Index, 2> first{}, last{};
+  for (int d = 0; d < 2; ++d) {
+    first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / spacing));
+    last[d] = static_cast<Index>(std::ceil((hi[d] - origin[d]) / spacing));
+  }
+  const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
+  auto& P = scene.particles;
+  std::vector<Index> created;
+  for (Index j = first[1]; j < last[1]; ++j)
+    for (Index i = first[0]; i < last[0]; ++i) {
+      const Vec2 x =
+          origin + spacing * Vec2(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5);
+      if (!inside_body(body, x) || !grid.inside(x))
+        continue;
+      created.push_back(P.size());
+      const Index p = P.size();
+      P.resize(p + 1);
+      const auto s = static_cast<std::size_t>(p);
+      P.x[s] = x;
+      P.x0[s] = x;
+      P.volume0[s] = spacing * spacing;
+      P.volume[s] = P.volume0[s];
+      P.mass[s] = mat.density * P.volume0[s];
+      P.half_size0[s] = Vec2::Constant(0.5 * spacing);
+      P.material[s] = body.material_index;
+      P.body[s] = body_index;
+      P.v[s] = body.velocity;
+    }
+  if (created.empty())
+    throw InputError(body.where, fmt::format("body '{}' contains no material point at cell size "
+                                             "{:g} with {} particles per cell; refine the grid",
+                                             body.name, grid.cell_size(), body.particles_per_cell));
+  for (int d = 0; d < 2; ++d) {
+    if (body.velocity_expression[static_cast<std::size_t>(d)].empty())
+      continue;
+    try {
+      const PositionExpression velocity(body.velocity_expression[static_cast<std::size_t>(d)]);
+      for (Index p : created) {
+        const Vec2& x = P.x[static_cast<std::size_t>(p)];
+        const double value = velocity(x.x(), x.y());
+        if (!std::isfinite(value))
+          throw std::invalid_argument(fmt::format(
+              "velocity expression '{}' is {} at ({:g}, {:g})",
+              body.velocity_expression[static_cast<std::size_t>(d)], value, x.x(), x.y()));
+        P.v[static_cast<std::size_t>(p)][d] = value;
+      }
+    } catch (const std::invalid_argument& e) {
+      throw InputError(body.where, e.what());
+    }
+  }
+  if (body.angular_velocity != 0.0) {
+    // Rigid spin about the centroid of the generated points: v = v0 + omega x (x - c).
+    Vec2 c = Vec2::Zero();
+    double m = 0;
+    for (Index p : created) {
+      c += P.mass[static_cast<std::size_t>(p)] * P.x[static_cast<std::size_t>(p)];
+      m += P.mass[static_cast<std::size_t>(p)];
+    }
+    c /= m;
+    for (Index p : created) {
+      const Vec2 r = P.x[static_cast<std::size_t>(p)] - c;
+      P.v[static_cast<std::size_t>(p)] += body.angular_velocity * Vec2(-r.y(), r.x());
+    }
+  }
+}
+
+Index nearest_particle(const Particles<2>& P, const Vec2& q) {
+  Index best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (Index p = 0; p < P.size(); ++p) {
+    const double d = (P.x[static_cast<std::size_t>(p)] - q).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = p;
+    }
+  }
+  return best;
+}
+
+void apply_tractions(Scene<2>& scene) {
+  auto& P = scene.particles;
+  for (const TractionSpec& t : scene.spec.tractions) {
+    // The outermost lattice row or column of the body on the given side carries the traction;
+    // each point takes the share of the side length its voxel covers.
+    const int axis = (t.side == Side::Left || t.side == Side::Right) ? 0 : 1;
+    const bool upper = (t.side == Side::Right || t.side == Side::Top);
+    double extreme =
+        upper ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    for (Index p = 0; p < P.size(); ++p) {
+      const auto s = static_cast<std::size_t>(p);
+      if (P.body[s] != t.body_index)
+        continue;
+      extreme = upper ? std::max(extreme, P.x[s][axis]) : std::min(extreme, P.x[s][axis]);
+    }
+    for (Index p = 0; p < P.size(); ++p) {
+      const auto s = static_cast<std::size_t>(p);
+      if (P.body[s] != t.body_index)
+        continue;
+      const double tol = 1e-6 * P.half_size0[s][axis];
+      if (std::abs(P.x[s][axis] - extreme) <= tol)
+        P.external_force[s] += t.traction * (2.0 * P.half_size0[s][1 - axis]);
+    }
+  }
+}
+
+void constrain_faces(Scene<2>& scene) {
+  const auto& g = scene.grid;
+  const auto& bc = scene.spec.boundaries;
+  scene.constrained.assign(static_cast<std::size_t>(g.node_count()), 0);
+  scene.node_face.assign(static_cast<std::size_t>(g.node_count()), -1);
+  auto mask_of = [](FaceCondition c, int normal_axis) -> std::uint8_t {
+    switch (c) {
+    case FaceCondition::Free:
+      return 0;
+    case FaceCondition::Fixed:
+      return 0b11;
+    case FaceCondition::Roller:
+      return static_cast<std::uint8_t>(1u << normal_axis);
+    }
+    return 0;
+  };
+  const FaceCondition conds[kFaceCount] = {bc.x_min, bc.x_max, bc.y_min, bc.y_max};
+  for (Index id = 0; id < g.node_count(); ++id) {
+    const auto ijk = g.node_ijk(id);
+    for (int face = 0; face < kFaceCount; ++face) {
+      const int axis = face / 2;
+      const bool upper = face % 2 == 1;
+      // The boundary node and the ghost node behind it (inside the wall) share the condition.
+      const bool on_face = upper ? ijk[axis] >= g.cells(axis) : ijk[axis] <= 0;
+      if (!on_face || conds[face] == FaceCondition::Free)
+        continue;
+      scene.constrained[static_cast<std::size_t>(id)] |= mask_of(conds[face], axis);
+      if (scene.node_face[static_cast<std::size_t>(id)] < 0)
+        scene.node_face[static_cast<std::size_t>(id)] = static_cast<std::int8_t>(face);
+    }
+  }
+}
+
+} // namespace
+
+Scene<2> build_scene(const CaseSpec& spec) {
+  Scene<2> scene;
+  scene.spec = spec;
+  const auto& g = spec.grid;
+  std::array<Index, 2> cells{};
+  for (int d = 0; d < 2; ++d)
+    cells[d] = static_cast<Index>(std::llround(g.extent[d] / g.cell_size));
+  scene.grid = Grid<2>(g.origin, g.cell_size, cells);
+
+  for (const MaterialSpec& m : spec.materials)
+    scene.materials.push_back(make_material(m));
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b)
+    add_body(scene, spec.bodies[b], static_cast<int>(b));
+
+  scene.particles_of_material.resize(spec.materials.size());
+  for (Index p = 0; p < scene.particles.size(); ++p)
+    scene
+        .particles_of_material[static_cast<std::size_t>(
+            scene.particles.material[static_cast<std::size_t>(p)])]
+        .push_back(p);
+
+  for (const PointLoadSpec& load : spec.point_loads) {
+    const Index p = nearest_particle(scene.particles, load.point);
+    scene.particles.external_force[static_cast<std::size_t>(p)] += load.force;
+  }
+  apply_tractions(scene);
+  constrain_faces(scene);
+
+  for (const ProbeSpec& probe : spec.probes) {
+    Index p = -1;
+    if (probe.particle) {
+      p = *probe.particle;
+      if (p >= scene.particles.size())
+        throw InputError(probe.where,
+                         fmt::format("probe '{}' names particle {}, but the scene has {} "
+                                     "particles (0 to {})",
+                                     probe.name, p, scene.particles.size(),
+                                     scene.particles.size() - 1));
+    } else {
+      p = nearest_particle(scene.particles, *probe.point);
+    }
+    scene.probe_particles.push_back(p);
+    scene.probe_names.push_back(probe.name);
+  }
+  return scene;
+}
+
+} // namespace talus

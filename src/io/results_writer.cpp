@@ -1,0 +1,268 @@
+// ResultsWriter: run.h5 (metadata + one group per frame). The file is opened and closed around
+// every frame so that an interrupted run keeps every complete frame; run.xmf is rewritten
+// after each frame (xdmf.cpp). Layout: docs/output-format.md.
+#include "talus/io/results.hpp"
+
+#include "hdf5_util.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <thread>
+
+namespace talus {
+
+namespace {
+
+using h5::Handle;
+using h5::Site;
+
+std::string join_lines(const std::vector<std::string>& items) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i)
+      out += '\n';
+    out += items[i];
+  }
+  return out;
+}
+
+/// H5Fopen(RDWR), retried for a few seconds while another process holds a lock on the file
+/// (HDF5 1.10 locks files it has open, e.g. a viewer reading the previous frame).
+Handle open_for_append(const std::filesystem::path& file) {
+  using namespace std::chrono_literals;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  for (;;) {
+    const hid_t id = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (id >= 0)
+      return {id, H5Fclose};
+    if (!std::filesystem::exists(file) || std::chrono::steady_clock::now() >= deadline)
+      h5::fail("H5Fopen (read-write; is the file open in another program?)", "", file);
+    std::this_thread::sleep_for(100ms);
+  }
+}
+
+void set_dataset_attributes(hid_t dset, const h5::DatasetInfo& info, const Site& s) {
+  h5::write_string_attribute(dset, "units", info.units, s);
+  h5::write_string_attribute(dset, "description", info.description, s);
+}
+
+/// Writes an N x columns (or N when columns == 0) dataset from row-major data.
+template <class T>
+void write_dataset(hid_t group, const std::string& group_name, const h5::DatasetInfo& info,
+                   hsize_t n, const std::vector<T>& data, const std::filesystem::path& file) {
+  const Site s{file, group_name + "/" + info.name};
+  const hsize_t dims[2] = {n, static_cast<hsize_t>(info.columns)};
+  const int rank = info.columns > 0 ? 2 : 1;
+  Handle space = h5::space_handle(H5Screate_simple(rank, dims, nullptr), s, "H5Screate_simple");
+  const hid_t file_type = info.integer ? H5T_STD_I32LE : H5T_IEEE_F64LE;
+  const hid_t mem_type = info.integer ? H5T_NATIVE_INT32 : H5T_NATIVE_DOUBLE;
+  Handle dset = h5::dataset_handle(
+      H5Dcreate2(group, info.name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      s, "H5Dcreate2");
+  if (n > 0)
+    h5::check_status(H5Dwrite(dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+                     "H5Dwrite", s.object, s.file);
+  set_dataset_attributes(dset.get(), info, s);
+}
+
+/// Makes /xdmf/vertex_ids at least n long (0, 1, 2, ...).
+void ensure_vertex_ids(hid_t file_id, hsize_t n, const std::filesystem::path& file) {
+  const Site s{file, h5::kVertexIds};
+  Handle dset = h5::dataset_handle(H5Dopen2(file_id, h5::kVertexIds, H5P_DEFAULT), s, "H5Dopen2");
+  Handle space = h5::space_handle(H5Dget_space(dset.get()), s, "H5Dget_space");
+  hsize_t current = 0;
+  h5::check_status(H5Sget_simple_extent_dims(space.get(), &current, nullptr),
+                   "H5Sget_simple_extent_dims", s.object, s.file);
+  if (current >= n)
+    return;
+  h5::check_status(H5Dset_extent(dset.get(), &n), "H5Dset_extent", s.object, s.file);
+  Handle fspace = h5::space_handle(H5Dget_space(dset.get()), s, "H5Dget_space");
+  const hsize_t start = current, count = n - current;
+  h5::check_status(
+      H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, &start, nullptr, &count, nullptr),
+      "H5Sselect_hyperslab", s.object, s.file);
+  Handle mspace = h5::space_handle(H5Screate_simple(1, &count, nullptr), s, "H5Screate_simple");
+  std::vector<std::int64_t> ids(static_cast<std::size_t>(count));
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    ids[i] = static_cast<std::int64_t>(current + i);
+  h5::check_status(
+      H5Dwrite(dset.get(), H5T_NATIVE_INT64, mspace.get(), fspace.get(), H5P_DEFAULT, ids.data()),
+      "H5Dwrite", s.object, s.file);
+}
+
+void check_size(std::size_t size, Index n, const char* what) {
+  if (static_cast<Index>(size) != n)
+    throw std::invalid_argument("ResultsWriter::write_frame: particle array '" + std::string(what) +
+                                "' has " + std::to_string(size) + " entries, expected " +
+                                std::to_string(n));
+}
+
+} // namespace
+
+ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
+    : dir_(std::move(dir)), h5_path_(dir_ / "run.h5"), xmf_path_(dir_ / "run.xmf"),
+      metadata_(std::move(metadata)) {
+  h5::quiet();
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec)
+    throw std::runtime_error("cannot create results directory '" + dir_.string() +
+                             "': " + ec.message());
+  // A sidecar left by an earlier run in this directory would point at frames that no longer
+  // exist once run.h5 is replaced; the first write_frame creates the new one.
+  std::filesystem::remove(xmf_path_, ec);
+  std::filesystem::remove(xmf_path_.string() + ".tmp", ec);
+
+  const auto& f = h5_path_;
+  Handle file = h5::file_handle(H5Fcreate(f.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                                Site{f, "/"}, "H5Fcreate");
+  const Site root{f, "/"};
+  h5::write_string_attribute(file.get(), "format", "talus-results", root);
+  h5::write_int64_attribute(file.get(), "format_version", 1, root);
+
+  {
+    const Site s{f, "/metadata"};
+    Handle g =
+        h5::group_handle(H5Gcreate2(file.get(), "/metadata", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                         s, "H5Gcreate2");
+    const auto& m = metadata_;
+    h5::write_string_attribute(g.get(), "case_name", m.case_name, s);
+    h5::write_string_attribute(g.get(), "case_file", m.case_file, s);
+    h5::write_string_attribute(g.get(), "version", m.version, s);
+    h5::write_int64_attribute(g.get(), "dimension", m.dimension, s);
+    h5::write_double_attribute(g.get(), "grid_origin", m.grid_origin.data(), 2, false, s);
+    h5::write_double_attribute(g.get(), "grid_extent", m.grid_extent.data(), 2, false, s);
+    h5::write_double_attribute(g.get(), "cell_size", &m.cell_size, 1, true, s);
+    h5::write_string_attribute(g.get(), "material_names", join_lines(m.material_names), s);
+    h5::write_string_attribute(g.get(), "body_names", join_lines(m.body_names), s);
+    h5::write_string_attribute(g.get(), "overrides", join_lines(m.overrides), s);
+    h5::write_string_attribute(g.get(), "length_unit", "m", s);
+    h5::write_string_attribute(g.get(), "time_unit", "s", s);
+
+    const Site c{f, "/metadata/case_text"};
+    Handle type = h5::vl_string_type(c);
+    Handle space = h5::space_handle(H5Screate(H5S_SCALAR), c, "H5Screate");
+    Handle text = h5::dataset_handle(H5Dcreate2(g.get(), "case_text", type.get(), space.get(),
+                                                H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                     c, "H5Dcreate2");
+    const char* p = m.case_text.c_str();
+    h5::check_status(H5Dwrite(text.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p),
+                     "H5Dwrite", c.object, c.file);
+    h5::write_string_attribute(text.get(), "description", "the case file, verbatim", c);
+  }
+  {
+    const Site s{f, "/frames"};
+    Handle g = h5::group_handle(
+        H5Gcreate2(file.get(), "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
+    h5::write_string_attribute(g.get(), "time_units", "s", s);
+  }
+  {
+    const Site s{f, h5::kVertexIds};
+    Handle g = h5::group_handle(
+        H5Gcreate2(file.get(), "/xdmf", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
+    h5::write_string_attribute(g.get(), "description", "helper datasets referenced by run.xmf", s);
+    const hsize_t zero = 0, unlimited = H5S_UNLIMITED, chunk = 4096;
+    Handle space = h5::space_handle(H5Screate_simple(1, &zero, &unlimited), s, "H5Screate_simple");
+    Handle dcpl = h5::plist_handle(H5Pcreate(H5P_DATASET_CREATE), s, "H5Pcreate");
+    h5::check_status(H5Pset_chunk(dcpl.get(), 1, &chunk), "H5Pset_chunk", s.object, s.file);
+    Handle d = h5::dataset_handle(H5Dcreate2(file.get(), h5::kVertexIds, H5T_STD_I64LE, space.get(),
+                                             H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                                  s, "H5Dcreate2");
+    h5::write_string_attribute(d.get(), "description",
+                               "0, 1, ..., N-1: Polyvertex connectivity for run.xmf", s);
+  }
+  h5::check_status(file.close(), "H5Fclose", "", f);
+}
+
+void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
+                                const std::vector<OutputField>& fields) {
+  h5::quiet();
+  const Index n = p.size();
+  const auto datasets = h5::frame_datasets(fields);
+  for (const auto& d : datasets) {
+    const std::string name = d.name;
+    if (name == "velocity")
+      check_size(p.v.size(), n, "v");
+    else if (name == "mass")
+      check_size(p.mass.size(), n, "mass");
+    else if (name == "volume")
+      check_size(p.volume.size(), n, "volume");
+    else if (name == "F")
+      check_size(p.F.size(), n, "F");
+    else if (name == "stress")
+      check_size(p.stress.size(), n, "stress");
+    else if (name == "material")
+      check_size(p.material.size(), n, "material");
+    else if (name == "body")
+      check_size(p.body.size(), n, "body");
+  }
+
+  const auto& f = h5_path_;
+  const std::string gname = h5::frame_group_name(frames_);
+  const Site gs{f, gname};
+  Handle file = open_for_append(f);
+  // A group left by a frame whose write failed half-way is replaced.
+  const htri_t exists = H5Lexists(file.get(), gname.c_str(), H5P_DEFAULT);
+  h5::check_status(exists < 0 ? -1 : 0, "H5Lexists", gname, f);
+  if (exists > 0)
+    h5::check_status(H5Ldelete(file.get(), gname.c_str(), H5P_DEFAULT), "H5Ldelete", gname, f);
+  {
+    Handle gcpl = h5::plist_handle(H5Pcreate(H5P_GROUP_CREATE), gs, "H5Pcreate");
+    h5::check_status(
+        H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
+        "H5Pset_link_creation_order", gname, f);
+    Handle g = h5::group_handle(
+        H5Gcreate2(file.get(), gname.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), gs,
+        "H5Gcreate2");
+    h5::write_double_attribute(g.get(), "time", &time, 1, true, gs);
+    h5::write_int64_attribute(g.get(), "step", step, gs);
+
+    const auto un = static_cast<std::size_t>(n);
+    const auto hn = static_cast<hsize_t>(n);
+    for (const auto& d : datasets) {
+      const std::string name = d.name;
+      if (d.integer) {
+        const auto& src = name == "material" ? p.material : p.body;
+        std::vector<std::int32_t> buf(src.begin(), src.end());
+        write_dataset(g.get(), gname, d, hn, buf, f);
+        continue;
+      }
+      std::vector<double> buf;
+      buf.reserve(un * static_cast<std::size_t>(std::max(d.columns, 1)));
+      if (name == "position" || name == "velocity") {
+        const auto& src = name == "position" ? p.x : p.v;
+        for (std::size_t i = 0; i < un; ++i) {
+          buf.push_back(src[i][0]);
+          buf.push_back(src[i][1]);
+        }
+      } else if (name == "mass" || name == "volume") {
+        const auto& src = name == "mass" ? p.mass : p.volume;
+        buf.assign(src.begin(), src.end());
+      } else if (name == "F") {
+        for (std::size_t i = 0; i < un; ++i) {
+          const Mat2& F = p.F[i];
+          const double row[9] = {F(0, 0), F(0, 1), 0.0, F(1, 0), F(1, 1), 0.0, 0.0, 0.0, 1.0};
+          buf.insert(buf.end(), row, row + 9);
+        }
+      } else if (name == "stress") {
+        for (std::size_t i = 0; i < un; ++i) {
+          const Mat3& s = p.stress[i];
+          const double t6[6] = {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
+          buf.insert(buf.end(), t6, t6 + 6);
+        }
+      }
+      write_dataset(g.get(), gname, d, hn, buf, f);
+    }
+  }
+  ensure_vertex_ids(file.get(), static_cast<hsize_t>(n), f);
+  h5::check_status(file.close(), "H5Fclose", gname, f);
+
+  frame_info_.push_back({step, time, n, fields});
+  ++frames_;
+  write_xdmf();
+}
+
+} // namespace talus

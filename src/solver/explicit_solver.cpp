@@ -1,0 +1,308 @@
+#include "talus/solver/explicit_solver.hpp"
+
+#include "talus/core/parallel.hpp"
+#include "talus/grid/particle_grid_map.hpp"
+#include "talus/shape/shape_functions.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace talus {
+
+namespace {
+
+// Nodes whose mass is below this fraction of the smallest particle mass carry no reliable
+// velocity (their support barely touches a particle); they are treated as empty.
+constexpr double kTinyNodeMassFraction = 1e-12;
+
+template <class Shape> class ExplicitSolverImpl final : public ExplicitSolver {
+  static constexpr int Dim = 2;
+  using V = Vec<Dim>;
+  using M = Mat<Dim>;
+
+public:
+  explicit ExplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
+    const auto nn = static_cast<std::size_t>(scene.grid.node_count());
+    mass_.assign(nn, 0.0);
+    momentum_.assign(nn, V::Zero());
+    force_.assign(nn, V::Zero());
+    velocity_.assign(nn, V::Zero());
+    acceleration_.assign(nn, V::Zero());
+    const auto& P = scene.particles;
+    const double min_mass = P.size() ? *std::min_element(P.mass.begin(), P.mass.end()) : 1.0;
+    tiny_mass_ = kTinyNodeMassFraction * min_mass;
+    for (auto& r : reactions_)
+      r.setZero();
+    apic_ = scene.spec.solver.transfer == TransferScheme::Apic;
+    if (apic_)
+      scene.particles.affine_velocity.assign(static_cast<std::size_t>(P.size()), M::Zero());
+    update_stress(); // stress consistent with the initial F
+  }
+
+  void step(double dt) override {
+    map_.update(scene_.grid, scene_.particles);
+    switch (scene_.spec.solver.scheme) {
+    case UpdateScheme::USF:
+      gather_mass_momentum();
+      grid_velocity_from_momentum();
+      update_kinematics_and_stress(dt);
+      gather_forces();
+      grid_acceleration(dt);
+      particle_update(dt);
+      break;
+    case UpdateScheme::USL:
+      gather_mass_momentum();
+      gather_forces();
+      grid_velocity_from_momentum();
+      grid_acceleration(dt);
+      particle_update(dt);
+      update_kinematics_and_stress(dt);
+      break;
+    case UpdateScheme::MUSL:
+      gather_mass_momentum();
+      gather_forces();
+      grid_velocity_from_momentum();
+      grid_acceleration(dt);
+      particle_update(dt);
+      remap_velocity(); // velocity gradient from the updated particle velocities
+      update_kinematics_and_stress(dt);
+      break;
+    }
+  }
+
+  double stable_dt(double cfl) const override {
+    const auto& P = scene_.particles;
+    double max_speed = 0;
+    for (Index p = 0; p < P.size(); ++p) {
+      const auto s = static_cast<std::size_t>(p);
+      const double c = scene_.materials[static_cast<std::size_t>(P.material[s])]->wave_speed();
+      max_speed = std::max(max_speed, c + P.v[s].norm());
+    }
+    return cfl * scene_.grid.cell_size() / max_speed;
+  }
+
+  Energies energies() const override {
+    Energies e;
+    const auto& P = scene_.particles;
+    const Vec2 g = scene_.spec.gravity;
+    for (Index p = 0; p < P.size(); ++p) {
+      const auto s = static_cast<std::size_t>(p);
+      e.kinetic += 0.5 * P.mass[s] * P.v[s].squaredNorm();
+      e.strain +=
+          P.volume0[s] * scene_.materials[static_cast<std::size_t>(P.material[s])]->energy_density(
+                             embed_plane_strain(P.F[s]));
+      e.gravity -= P.mass[s] * g.dot(P.x[s]);
+      e.momentum += P.mass[s] * P.v[s];
+    }
+    return e;
+  }
+
+  std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
+  Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
+
+private:
+  const std::vector<Index>& active() const { return map_.active_nodes(); }
+  V node_position(Index n) const { return scene_.grid.node_position(scene_.grid.node_ijk(n)); }
+
+  // The particle's velocity field evaluated at a node: v_p, plus C_p (x_i - x_p) with APIC.
+  V particle_velocity_at(Index p, const V& xi) const {
+    const auto& P = scene_.particles;
+    if (!apic_)
+      return P.v[at(p)];
+    return P.v[at(p)] + P.affine_velocity[at(p)] * (xi - P.x[at(p)]);
+  }
+  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
+
+  void gather_mass_momentum() {
+    const auto& P = scene_.particles;
+    const auto& nodes = active();
+    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
+      const Index n = nodes[at(k)];
+      double m = 0;
+      V mv = V::Zero();
+      const V xi = node_position(n);
+      map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
+        m += w * P.mass[at(p)];
+        mv += (w * P.mass[at(p)]) * particle_velocity_at(p, xi);
+      });
+      mass_[at(n)] = m;
+      momentum_[at(n)] = mv;
+    });
+  }
+
+  // Internal force -sum V sigma grad(N) plus external point forces and gravity.
+  void gather_forces() {
+    const auto& P = scene_.particles;
+    const V g = scene_.spec.gravity;
+    const auto& nodes = active();
+    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
+      const Index n = nodes[at(k)];
+      V f = V::Zero();
+      map_.for_each_particle_of(n, [&](Index p, double w, const V& grad) {
+        const auto s = at(p);
+        const M sigma = P.stress[s].template topLeftCorner<Dim, Dim>();
+        f -= P.volume[s] * (sigma * grad);
+        f += w * (P.external_force[s] + P.mass[s] * g);
+      });
+      force_[at(n)] = f;
+    });
+  }
+
+  void constrain(Index n, V& vec) const {
+    const std::uint8_t mask = scene_.constrained[at(n)];
+    for (int d = 0; d < Dim; ++d)
+      if (mask & (1u << d))
+        vec[d] = 0.0;
+  }
+
+  void grid_velocity_from_momentum() {
+    for (const Index n : active()) {
+      if (mass_[at(n)] <= tiny_mass_) {
+        velocity_[at(n)].setZero();
+        continue;
+      }
+      velocity_[at(n)] = momentum_[at(n)] / mass_[at(n)];
+      constrain(n, velocity_[at(n)]);
+    }
+  }
+
+  // a = f / m with constraints; the reaction on a constrained component is what holds it: -f.
+  void grid_acceleration(double dt) {
+    for (auto& r : reactions_)
+      r.setZero();
+    for (const Index n : active()) {
+      const auto s = at(n);
+      const int face = scene_.node_face[s];
+      if (face >= 0) {
+        const std::uint8_t mask = scene_.constrained[s];
+        for (int d = 0; d < Dim; ++d)
+          if (mask & (1u << d))
+            reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
+      }
+      if (mass_[s] <= tiny_mass_) {
+        acceleration_[s].setZero();
+        continue;
+      }
+      acceleration_[s] = force_[s] / mass_[s];
+      constrain(n, acceleration_[s]);
+      velocity_[s] += dt * acceleration_[s];
+    }
+  }
+
+  // FLIP/PIC blend of the particle velocity, or APIC's velocity and affine matrix; positions
+  // move with the updated grid velocity.
+  void particle_update(double dt) {
+    auto& P = scene_.particles;
+    if (apic_) {
+      parallel_for(P.size(), [&](Index p) { apic_update(p, dt); });
+      return;
+    }
+    const double flip = scene_.spec.solver.flip;
+    parallel_for(P.size(), [&](Index p) {
+      V a = V::Zero(), v_new = V::Zero();
+      map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+        a += w * acceleration_[at(n)];
+        v_new += w * velocity_[at(n)];
+      });
+      const auto s = at(p);
+      P.v[s] = flip * (P.v[s] + dt * a) + (1.0 - flip) * v_new;
+      P.x[s] += dt * v_new;
+    });
+  }
+
+  // APIC (Jiang et al. 2015): v_p = sum w v_i, C_p = B_p D_p^-1 with B_p = sum w v_i (x_i - x_p)^T
+  // and D_p = sum w (x_i - x_p)(x_i - x_p)^T. For tensor-product kernels that reproduce linear
+  // fields D_p is diagonal, one 1D second moment per direction. Linear hats lose that moment on
+  // a node (D_dd -> 0); there the affine part in that direction is dropped.
+  void apic_update(Index p, double dt) {
+    auto& P = scene_.particles;
+    const auto s = at(p);
+    V v_new = V::Zero();
+    M B = M::Zero();
+    map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+      v_new += w * velocity_[at(n)];
+      B += w * velocity_[at(n)] * (node_position(n) - P.x[s]).transpose();
+    });
+    const auto& st = map_.stencil(p);
+    const double h = scene_.grid.cell_size();
+    M C = M::Zero();
+    for (int d = 0; d < Dim; ++d) {
+      double second_moment = 0;
+      for (int a = 0; a < Shape::kWidth; ++a) {
+        const double r =
+            scene_.grid.origin()[d] + h * static_cast<double>(st.start[d] + a) - P.x[s][d];
+        second_moment += st.N[d][static_cast<std::size_t>(a)] * r * r;
+      }
+      if (second_moment > 1e-8 * h * h)
+        C.col(d) = B.col(d) / second_moment;
+    }
+    P.v[s] = v_new;
+    P.affine_velocity[s] = C;
+    P.x[s] += dt * v_new;
+  }
+
+  void remap_velocity() {
+    const auto& P = scene_.particles;
+    const auto& nodes = active();
+    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
+      const Index n = nodes[at(k)];
+      if (mass_[at(n)] <= tiny_mass_) {
+        velocity_[at(n)].setZero();
+        return;
+      }
+      V mv = V::Zero();
+      const V xi = node_position(n);
+      map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
+        mv += (w * P.mass[at(p)]) * particle_velocity_at(p, xi);
+      });
+      velocity_[at(n)] = mv / mass_[at(n)];
+      constrain(n, velocity_[at(n)]);
+    });
+  }
+
+  // Velocity gradient from the grid; F advanced with the midpoint (Hughes-Winget) increment
+  // dF = (I - dt L / 2)^-1 (I + dt L / 2), which is exactly orthogonal for a rigid spin, so a
+  // rotating body accumulates no spurious strain from the time integration.
+  void update_kinematics_and_stress(double dt) {
+    auto& P = scene_.particles;
+    parallel_for(P.size(), [&](Index p) {
+      M L = M::Zero();
+      map_.for_each_node_of(
+          p, [&](Index n, double, const V& grad) { L += velocity_[at(n)] * grad.transpose(); });
+      const M half = 0.5 * dt * L;
+      const M dF = (M::Identity() - half).inverse() * (M::Identity() + half);
+      const auto s = at(p);
+      P.F[s] = dF * P.F[s];
+      P.volume[s] = P.F[s].determinant() * P.volume0[s];
+    });
+    update_stress();
+  }
+
+  void update_stress() {
+    auto& P = scene_.particles;
+    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+      scene_.materials[m]->update_stress(scene_.particles_of_material[m], P.F, P.stress);
+  }
+
+  Scene<Dim>& scene_;
+  ParticleGridMap<Dim, Shape> map_;
+  std::vector<double> mass_;
+  std::vector<V> momentum_, force_, velocity_, acceleration_;
+  std::array<Vec2, kFaceCount> reactions_{};
+  double tiny_mass_ = 0;
+  bool apic_ = false;
+};
+
+} // namespace
+
+std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<2>& scene) {
+  switch (scene.spec.solver.shape) {
+  case ShapeFunction::Linear:
+    return std::make_unique<ExplicitSolverImpl<LinearShape>>(scene);
+  case ShapeFunction::Gimp:
+    return std::make_unique<ExplicitSolverImpl<GimpShape>>(scene);
+  }
+  throw std::logic_error("unknown shape function");
+}
+
+} // namespace talus

@@ -1,0 +1,17 @@
+#pragma once
+// Factories of the verification cases (one file each) and helpers they share.
+#include "talus/io/results.hpp"
+#include "talus/solver/run.hpp"
+#include "talus/verify/verification.hpp"
+
+namespace talus::verify_cases {
+
+VerificationCase vibrating_bar();
+VerificationCase colliding_discs();
+VerificationCase rigid_translation();
+VerificationCase rigid_rotation();
+
+/// Runs a verification scene quietly into `dir`, throwing if it did not complete.
+RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);
+
+} // namespace talus::verify_cases
