@@ -746,5 +746,35 @@ TEST(CaseReaderOverrides, MalformedOverrides) {
   expect_error(kCase, {"--set", 0, 0, "grid", "'grid' is a map, not a list"}, {"grid[0]=1"});
 }
 
+// Initial velocity components may be expressions of the initial position (muparser).
+TEST(CaseReader, VelocityExpressions) {
+  const CaseSpec spec = read_case_text(
+      with(kCase, "velocity: [7, -7]", "velocity: [\"2 * x\", 0.5*sin(pi*y)]"), "case.yaml");
+  EXPECT_EQ(spec.bodies[0].velocity_expression[0], "2 * x");
+  EXPECT_EQ(spec.bodies[0].velocity_expression[1], "0.5*sin(pi*y)");
+  // Plain numbers stay numbers, without an expression.
+  const CaseSpec plain = read_case_text(kCase, "case.yaml");
+  EXPECT_TRUE(plain.bodies[0].velocity_expression[0].empty());
+  expect_vec(plain.bodies[0].velocity, 7, -7);
+}
+
+TEST(CaseReaderErrors, VelocityExpressionThatDoesNotParse) {
+  expect_error(with(kCase, "velocity: [7, -7]", "velocity: [7, \"2 * * x\"]"),
+               {"case.yaml", 25, 19, "bodies[0].velocity[1]", "invalid expression '2 * * x'"});
+  expect_error(with(kCase, "velocity: [7, -7]", "velocity: [7, sin(z)]"),
+               {"case.yaml", 25, 19, "bodies[0].velocity[1]", "invalid expression 'sin(z)'"});
+  // A malformed number is still reported as a number, not as an expression.
+  expect_error(with(kCase, "velocity: [7, -7]", "velocity: [7, 1e400]"),
+               {"case.yaml", 25, 19, "bodies[0].velocity[1]", "out of the double-precision range"});
+}
+
+TEST(CaseReaderErrors, ApicNeedsGimp) {
+  expect_error(with(kCase, "  scheme: usf", "  scheme: usf\n  transfer: apic"),
+               {"case.yaml", 59, 13, "solver.transfer", "transfer 'apic' needs shape 'gimp'"});
+  const CaseSpec spec =
+      read_case_text(kCase, "case.yaml", {"solver.shape=gimp", "solver.transfer=apic"});
+  EXPECT_EQ(spec.solver.transfer, TransferScheme::Apic);
+}
+
 } // namespace
 } // namespace talus

@@ -1,0 +1,64 @@
+#pragma once
+// Sparse linear solvers behind one interface, for the implicit Newton solve K du = -R.
+// The symbolic analysis (ordering, symbolic factorisation, preconditioner structure) is done by
+// analyze() and reused by factorize() as long as the sparsity pattern does not change.
+#include <Eigen/SparseCore>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class LinearSolverKind {
+  Cholmod,        ///< SuiteSparse CHOLMOD, sparse Cholesky (symmetric positive definite)
+  Umfpack,        ///< SuiteSparse UMFPACK, sparse LU (general)
+  Klu,            ///< SuiteSparse KLU, sparse LU for circuit-like/FE matrices (general)
+  EigenCg,        ///< Eigen conjugate gradients, incomplete-Cholesky preconditioner (SPD)
+  EigenBicgstab,  ///< Eigen BiCGSTAB, incomplete-LU (ILUT) preconditioner (general)
+  TrilinosCg,     ///< Trilinos Belos CG with a MueLu (default) or Ifpack2 preconditioner (SPD)
+  TrilinosGmres,  ///< Trilinos Belos GMRES with a MueLu or Ifpack2 preconditioner (general)
+};
+
+struct LinearSolverOptions {
+  LinearSolverKind kind = LinearSolverKind::Cholmod;
+  double tolerance = 1e-10;   ///< iterative solvers: relative residual ||b - Ax|| / ||b||
+  int max_iterations = 2000;  ///< iterative solvers
+  std::string preconditioner; ///< Trilinos: "muelu" (default) or "ifpack2"; ignored otherwise
+};
+
+struct LinearSolveStats {
+  int iterations = 0;          ///< 1 for direct solvers
+  double relative_residual = 0; ///< ||b - A x|| / ||b|| measured after the solve
+};
+
+class LinearSolver {
+public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+  /// True when the method needs a symmetric (positive definite) matrix.
+  virtual bool requires_symmetric() const = 0;
+  /// Symbolic phase for A's sparsity pattern.
+  virtual void analyze(const SparseMatrix& A) = 0;
+  /// Numeric phase for A (same pattern as the last analyze()). Throws NumericalError when the
+  /// matrix is singular or (Cholesky) not positive definite.
+  virtual void factorize(const SparseMatrix& A) = 0;
+  /// Solves A x = b with the last factorised A; throws NumericalError if an iterative method
+  /// does not reach its tolerance.
+  virtual LinearSolveStats solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+};
+
+/// Throws std::invalid_argument for a kind not built into this binary.
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& options);
+
+/// Names of the backends this binary was built with (for `talus info`), e.g. "cholmod".
+std::vector<std::string> available_linear_solvers();
+
+/// Case-file name <-> kind: cholmod, umfpack, klu, eigen_cg, eigen_bicgstab, trilinos_cg,
+/// trilinos_gmres.
+std::string to_string(LinearSolverKind kind);
+bool parse_linear_solver_kind(const std::string& name, LinearSolverKind& kind);
+
+} // namespace talus
