@@ -2,12 +2,14 @@
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/linalg/linear_solver.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/verify/verification.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <string>
 #include <vector>
@@ -22,8 +24,11 @@ int print_info() {
   fmt::print("dimension       2 (plane strain)\n");
   fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC blend)\n");
   fmt::print("shape functions linear, gimp (uGIMP)\n");
-  fmt::print("materials       linear_elastic, neo_hookean\n");
+  fmt::print("materials       linear_elastic, neo_hookean, hencky\n");
   fmt::print("OpenMP threads  {} available\n", omp_get_max_threads());
+  fmt::print("linear solvers  {} (for the implicit solver, in progress)\n",
+             fmt::join(available_linear_solvers(), ", "));
+  fmt::print("Newton driver   SUNDIALS KINSOL {}\n", TALUS_SUNDIALS_VERSION);
   fmt::print("results         HDF5 + XDMF (ParaView), CSV, JSON\n");
   fmt::print("data directory  {}\n", verification_dir().parent_path().string());
   return kExitOk;

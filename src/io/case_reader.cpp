@@ -449,7 +449,8 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
     names.add(s.name, name_item, item.path);
     s.model = choice<MaterialModel>(m.required("model"),
                                     {{"linear_elastic", MaterialModel::LinearElastic},
-                                     {"neo_hookean", MaterialModel::NeoHookean}});
+                                     {"neo_hookean", MaterialModel::NeoHookean},
+                                     {"hencky", MaterialModel::Hencky}});
     s.density = positive(m.required("density"));
     s.youngs_modulus = positive(m.required("youngs_modulus"));
     const Item nu = m.required("poisson_ratio");

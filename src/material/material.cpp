@@ -2,9 +2,12 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
+#include "talus/material/hyperelastic.hpp"
+#include "talus/material/principal_space.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 
 namespace talus {
 
@@ -12,17 +15,21 @@ double Material::wave_speed() const {
   return std::sqrt(lame_.p_wave_modulus() / density_);
 }
 
-Mat3 LinearElastic::stress(const Mat3& F) const {
-  const Mat3 eps = 0.5 * (F + F.transpose()) - Mat3::Identity();
-  return lame().lambda * eps.trace() * Mat3::Identity() + 2.0 * lame().mu * eps;
+namespace {
+
+/// det F, or NumericalError naming the model and material when it is not positive.
+double checked_jacobian(const Mat3& F, const char* model, const std::string& name) {
+  const double J = F.determinant();
+  if (!(J > 0.0))
+    throw NumericalError(
+        fmt::format("{} material '{}': det F = {:g} is not positive", model, name, J));
+  return J;
 }
 
-void LinearElastic::update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                                  std::span<Mat3> stress_out) const {
-  parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
-    const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-    stress_out[p] = stress(embed_plane_strain(F[p]));
-  });
+} // namespace
+
+Mat3 LinearElastic::stress(const Mat3& F) const {
+  return linear_elastic_kirchhoff(F, lame()); // small strain: sigma = tau
 }
 
 double LinearElastic::energy_density(const Mat3& F) const {
@@ -31,21 +38,8 @@ double LinearElastic::energy_density(const Mat3& F) const {
 }
 
 Mat3 NeoHookean::stress(const Mat3& F) const {
-  const double J = F.determinant();
-  if (!(J > 0.0))
-    throw NumericalError(
-        fmt::format("neo-Hookean material '{}': det F = {:g} is not positive", name(), J));
-  const Mat3 b = F * F.transpose();
-  return (lame().mu / J) * (b - Mat3::Identity()) +
-         (lame().lambda * std::log(J) / J) * Mat3::Identity();
-}
-
-void NeoHookean::update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                               std::span<Mat3> stress_out) const {
-  parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
-    const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-    stress_out[p] = stress(embed_plane_strain(F[p]));
-  });
+  const double J = checked_jacobian(F, "neo-Hookean", name());
+  return neo_hookean_kirchhoff(F, lame()) / J;
 }
 
 double NeoHookean::energy_density(const Mat3& F) const {
@@ -55,6 +49,20 @@ double NeoHookean::energy_density(const Mat3& F) const {
          0.5 * lame().lambda * lnJ * lnJ;
 }
 
+Mat3 Hencky::stress(const Mat3& F) const {
+  const double J = checked_jacobian(F, "Hencky", name());
+  return hencky_kirchhoff(F, lame()) / J;
+}
+
+double Hencky::energy_density(const Mat3& F) const {
+  // b cannot see an inverted F: report it as NaN, like the ln J of the neo-Hookean energy
+  if (!(F.determinant() > 0.0))
+    return std::numeric_limits<double>::quiet_NaN();
+  // principal logarithmic strains e_a = ln(x_a) / 2 from the eigenvalues x_a of b = F F^T
+  const Vec3 e = 0.5 * spectral_decomposition(F * F.transpose()).values.array().log().matrix();
+  return lame().mu * e.squaredNorm() + 0.5 * lame().lambda * e.sum() * e.sum();
+}
+
 std::unique_ptr<Material> make_material(const MaterialSpec& spec) {
   const auto lame = LameParameters::from_young_poisson(spec.youngs_modulus, spec.poisson_ratio);
   switch (spec.model) {
@@ -62,6 +70,8 @@ std::unique_ptr<Material> make_material(const MaterialSpec& spec) {
     return std::make_unique<LinearElastic>(spec.name, spec.density, lame);
   case MaterialModel::NeoHookean:
     return std::make_unique<NeoHookean>(spec.name, spec.density, lame);
+  case MaterialModel::Hencky:
+    return std::make_unique<Hencky>(spec.name, spec.density, lame);
   }
   throw std::logic_error("unknown material model");
 }

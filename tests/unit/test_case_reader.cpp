@@ -539,7 +539,7 @@ TEST(CaseReaderErrors, NonPhysicalValues) {
 TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
   expect_error(with(kCase, "model: linear_elastic", "model: plastic"),
                {"case.yaml", 10, 12, "materials[0].model",
-                "unknown value 'plastic' (allowed: linear_elastic, neo_hookean)"});
+                "unknown value 'plastic' (allowed: linear_elastic, neo_hookean, hencky)"});
   expect_error(with(kCase, "scheme: usf", "scheme: msul"),
                {"case.yaml", 58, 11, "solver.scheme",
                 "unknown value 'msul' (allowed: usl, usf, musl); did you mean 'musl'?"});

@@ -18,7 +18,7 @@ enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
 /// an affine velocity per particle so affine fields such as a rigid spin transfer exactly.
 enum class TransferScheme { Flip, Apic };
-enum class MaterialModel { LinearElastic, NeoHookean };
+enum class MaterialModel { LinearElastic, NeoHookean, Hencky };
 enum class BodyShape { Rectangle, Disc, Polygon };
 enum class FaceCondition { Free, Fixed, Roller };
 enum class Side { Left, Right, Bottom, Top };

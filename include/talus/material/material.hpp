@@ -2,6 +2,7 @@
 // Constitutive models. A model is evaluated for a whole batch of particles per call (one
 // virtual call per material per step, never per particle). Kinematics enter as the full 3x3
 // deformation gradient: plane strain embeds the in-plane block with F33 = 1.
+#include "talus/core/parallel.hpp"
 #include "talus/core/types.hpp"
 #include "talus/io/case_spec.hpp"
 
@@ -50,25 +51,46 @@ private:
   LameParameters lame_;
 };
 
-/// Small-strain linear elasticity on the total strain eps = sym(F) - I. Exact for small
-/// displacements; not objective under large rotation (use neo_hookean there).
-class LinearElastic final : public Material {
+/// The batch loop shared by the elastic laws, whose stress depends on F alone: Law::stress is
+/// called directly (no virtual call per particle).
+template <class Law> class ElasticMaterial : public Material {
 public:
   using Material::Material;
-  Mat3 stress(const Mat3& F) const;
   void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                     std::span<Mat3> stress) const override;
+                     std::span<Mat3> stress_out) const final {
+    const auto& law = static_cast<const Law&>(*this);
+    parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
+      const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
+      stress_out[p] = law.stress(embed_plane_strain(F[p]));
+    });
+  }
+};
+
+/// Small-strain linear elasticity on the total strain eps = sym(F) - I. Exact for small
+/// displacements; not objective under large rotation (use neo_hookean or hencky there).
+class LinearElastic final : public ElasticMaterial<LinearElastic> {
+public:
+  using ElasticMaterial::ElasticMaterial;
+  Mat3 stress(const Mat3& F) const;
   double energy_density(const Mat3& F) const override;
 };
 
 /// Compressible neo-Hookean: sigma = mu/J (b - I) + lambda ln(J)/J I,
 /// psi = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2. Objective; J <= 0 is an error.
-class NeoHookean final : public Material {
+class NeoHookean final : public ElasticMaterial<NeoHookean> {
 public:
-  using Material::Material;
+  using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
-  void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                     std::span<Mat3> stress) const override;
+  double energy_density(const Mat3& F) const override;
+};
+
+/// Hencky (logarithmic-strain) hyperelasticity: tau = lambda tr(e) I + 2 mu e with
+/// e = 1/2 ln(b), b = F F^T, sigma = tau / J; psi = mu e:e + lambda/2 (tr e)^2. Objective, and
+/// linear in the log strain, so it stays well behaved at large stretch; J <= 0 is an error.
+class Hencky final : public ElasticMaterial<Hencky> {
+public:
+  using ElasticMaterial::ElasticMaterial;
+  Mat3 stress(const Mat3& F) const;
   double energy_density(const Mat3& F) const override;
 };
 

@@ -1,0 +1,56 @@
+#pragma once
+// Newton's method for R(x) = 0 driven by SUNDIALS KINSOL (line search, convergence tests,
+// iteration cap), with the linear systems solved by our LinearSolver backends through a
+// custom SUNLinearSolver. The caller provides the residual and the consistent Jacobian.
+#include "talus/core/types.hpp"
+#include "talus/linalg/linear_solver.hpp"
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+class NonlinearSystem {
+public:
+  virtual ~NonlinearSystem() = default;
+  virtual Index size() const = 0;
+  /// R(x). Returns false when x is not admissible (a material update failed, det F <= 0):
+  /// KINSOL then shortens the step, and the load stepper cuts back if that does not help.
+  virtual bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) = 0;
+  /// The Jacobian dR/dx at x, called after residual(x).
+  virtual const SparseMatrix& jacobian(const Eigen::VectorXd& x) = 0;
+  /// True when the Jacobian's sparsity pattern differs from the previous one, so the linear
+  /// solver must redo its symbolic analysis.
+  virtual bool pattern_changed() const = 0;
+};
+
+struct NewtonOptions {
+  /// Converged when max_i |R_i| <= residual_tolerance * residual_scale.
+  double residual_tolerance = 1e-8;
+  double residual_scale = 1.0; ///< a force scale of the problem (e.g. the external load norm)
+  /// Converged also when the scaled step max_i |dx_i| / step_scale falls below this.
+  double step_tolerance = 1e-13;
+  double step_scale = 1.0;
+  int max_iterations = 25;
+  bool line_search = true;
+};
+
+struct NewtonReport {
+  bool converged = false;
+  int iterations = 0;
+  int residual_evaluations = 0;
+  int linear_solves = 0;
+  int factorizations = 0;
+  int symbolic_analyses = 0;
+  /// max_i |R_i| / residual_scale at each Newton iterate, the converged one last.
+  std::vector<double> residual_history;
+  std::string message; ///< KINSOL's reason when not converged
+  double seconds_assembly = 0, seconds_factorization = 0, seconds_solve = 0, seconds_residual = 0;
+};
+
+/// Solves R(x) = 0 from the initial guess in x (overwritten with the solution).
+NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, Eigen::VectorXd& x,
+                          const NewtonOptions& options);
+
+} // namespace talus

@@ -1,0 +1,250 @@
+#include "talus/solver/newton.hpp"
+
+#include "talus/core/errors.hpp"
+
+#include <chrono>
+#include <exception>
+#include <fmt/format.h>
+#include <kinsol/kinsol.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+
+namespace talus {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+}
+
+// Everything the C callbacks need, reached through KINSOL's user data and the content pointer
+// of the custom linear solver. Exceptions never cross the C boundary: the first one is kept
+// and re-thrown once KINSol has returned.
+struct Driver {
+  NonlinearSystem& system;
+  LinearSolver& linear;
+  const NewtonOptions& options;
+  NewtonReport report;
+  const SparseMatrix* jacobian = nullptr;
+  bool analysed = false;
+  std::exception_ptr error;
+  std::string kinsol_message;
+  Eigen::VectorXd r;
+};
+
+int residual_callback(N_Vector u, N_Vector f, void* data) {
+  auto& d = *static_cast<Driver*>(data);
+  try {
+    const auto t0 = Clock::now();
+    ++d.report.residual_evaluations;
+    const bool ok = d.system.residual(view(u), d.r);
+    d.report.seconds_residual += seconds_since(t0);
+    if (!ok)
+      return 1; // recoverable: KINSOL's line search shortens the step
+    view(f) = d.r;
+    return 0;
+  } catch (...) {
+    d.error = std::current_exception();
+    return -1;
+  }
+}
+
+int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, N_Vector) {
+  auto& d = *static_cast<Driver*>(data);
+  try {
+    d.report.residual_history.push_back(view(fu).lpNorm<Eigen::Infinity>() /
+                                        d.options.residual_scale);
+    const auto t0 = Clock::now();
+    d.jacobian = &d.system.jacobian(view(u));
+    d.report.seconds_assembly += seconds_since(t0);
+    return 0;
+  } catch (...) {
+    d.error = std::current_exception();
+    return -1;
+  }
+}
+
+Driver& driver_of(SUNLinearSolver ls) {
+  return *static_cast<Driver*>(ls->content);
+}
+
+SUNLinearSolver_Type ls_type(SUNLinearSolver) {
+  return SUNLINEARSOLVER_DIRECT;
+}
+
+int ls_setup(SUNLinearSolver ls, SUNMatrix) {
+  auto& d = driver_of(ls);
+  try {
+    const auto t0 = Clock::now();
+    if (!d.analysed || d.system.pattern_changed()) {
+      d.linear.analyze(*d.jacobian);
+      d.analysed = true;
+      ++d.report.symbolic_analyses;
+    }
+    d.linear.factorize(*d.jacobian);
+    ++d.report.factorizations;
+    d.report.seconds_factorization += seconds_since(t0);
+    return 0;
+  } catch (const NumericalError&) {
+    d.error = std::current_exception();
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  } catch (...) {
+    d.error = std::current_exception();
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  }
+}
+
+int ls_solve(SUNLinearSolver ls, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+  auto& d = driver_of(ls);
+  try {
+    const auto t0 = Clock::now();
+    Eigen::VectorXd solution;
+    d.linear.solve(view(b), solution);
+    view(x) = solution;
+    ++d.report.linear_solves;
+    d.report.seconds_solve += seconds_since(t0);
+    return 0;
+  } catch (...) {
+    d.error = std::current_exception();
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  }
+}
+
+int ls_initialize(SUNLinearSolver) {
+  return 0;
+}
+int ls_free(SUNLinearSolver ls) {
+  ls->content = nullptr;
+  SUNLinSolFreeEmpty(ls);
+  return 0;
+}
+
+// The Jacobian lives in our own sparse format; KINSOL only needs a matrix object to pass
+// around, and clears it (a no-op here) before each setup.
+SUNMatrix_ID matrix_id(SUNMatrix) {
+  return SUNMATRIX_CUSTOM;
+}
+int matrix_zero(SUNMatrix) {
+  return 0;
+}
+void matrix_destroy(SUNMatrix A) {
+  SUNMatFreeEmpty(A);
+}
+
+void error_handler(int code, const char* module, const char* function, char* message, void* data) {
+  auto& d = *static_cast<Driver*>(data);
+  d.kinsol_message = fmt::format("{} ({}, {}: code {})", message, module, function, code);
+}
+
+// Owns every SUNDIALS object of one solve and frees them in reverse order.
+struct KinsolSession {
+  SUNContext context = nullptr;
+  N_Vector u = nullptr, u_scale = nullptr, f_scale = nullptr;
+  SUNLinearSolver ls = nullptr;
+  SUNMatrix J = nullptr;
+  void* kinsol = nullptr;
+
+  KinsolSession(sunindextype n, Driver& d) {
+    if (SUNContext_Create(nullptr, &context) < 0)
+      throw std::runtime_error("SUNContext_Create failed");
+    u = N_VNew_Serial(n, context);
+    u_scale = N_VNew_Serial(n, context);
+    f_scale = N_VNew_Serial(n, context);
+    ls = SUNLinSolNewEmpty(context);
+    J = SUNMatNewEmpty(context);
+    kinsol = KINCreate(context);
+    if (!u || !u_scale || !f_scale || !ls || !J || !kinsol)
+      throw std::runtime_error("cannot allocate the KINSOL objects");
+    ls->content = &d;
+    ls->ops->gettype = ls_type;
+    ls->ops->initialize = ls_initialize;
+    ls->ops->setup = ls_setup;
+    ls->ops->solve = ls_solve;
+    ls->ops->free = ls_free;
+    J->ops->getid = matrix_id;
+    J->ops->zero = matrix_zero;
+    J->ops->destroy = matrix_destroy;
+  }
+  ~KinsolSession() {
+    if (kinsol)
+      KINFree(&kinsol);
+    if (J)
+      SUNMatDestroy(J);
+    if (ls)
+      SUNLinSolFree(ls);
+    for (N_Vector v : {u, u_scale, f_scale})
+      if (v)
+        N_VDestroy(v);
+    if (context)
+      SUNContext_Free(&context);
+  }
+  KinsolSession(const KinsolSession&) = delete;
+  KinsolSession& operator=(const KinsolSession&) = delete;
+};
+
+void check(int flag, const char* what) {
+  if (flag < 0)
+    throw std::runtime_error(fmt::format("KINSOL setup failed in {} (flag {})", what, flag));
+}
+
+} // namespace
+
+NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, Eigen::VectorXd& x,
+                          const NewtonOptions& options) {
+  const auto n = static_cast<sunindextype>(system.size());
+  if (x.size() != n)
+    throw std::invalid_argument("solve_newton: initial guess has the wrong size");
+  Driver d{system, linear_solver, options, {}, nullptr, false, nullptr, {}, {}};
+  KinsolSession k(n, d);
+  view(k.u) = x;
+  N_VConst(1.0 / options.step_scale, k.u_scale);
+  N_VConst(1.0 / options.residual_scale, k.f_scale);
+
+  check(KINInit(k.kinsol, residual_callback, k.u), "KINInit");
+  check(KINSetUserData(k.kinsol, &d), "KINSetUserData");
+  check(KINSetErrHandlerFn(k.kinsol, error_handler, &d), "KINSetErrHandlerFn");
+  check(KINSetLinearSolver(k.kinsol, k.ls, k.J), "KINSetLinearSolver");
+  check(KINSetJacFn(k.kinsol, jacobian_callback), "KINSetJacFn");
+  check(KINSetMaxSetupCalls(k.kinsol, 1), "KINSetMaxSetupCalls"); // exact Newton: new J each step
+  check(KINSetNumMaxIters(k.kinsol, options.max_iterations), "KINSetNumMaxIters");
+  check(KINSetFuncNormTol(k.kinsol, options.residual_tolerance), "KINSetFuncNormTol");
+  check(KINSetScaledStepTol(k.kinsol, options.step_tolerance), "KINSetScaledStepTol");
+  check(KINSetMaxNewtonStep(k.kinsol, 1e300), "KINSetMaxNewtonStep"); // loads set the scale
+  const int flag =
+      KINSol(k.kinsol, k.u, options.line_search ? KIN_LINESEARCH : KIN_NONE, k.u_scale, k.f_scale);
+  long iterations = 0;
+  KINGetNumNonlinSolvIters(k.kinsol, &iterations);
+  d.report.iterations = static_cast<int>(iterations);
+  double fnorm = 0;
+  KINGetFuncNorm(k.kinsol, &fnorm);
+  d.report.converged = flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK ||
+                       (flag == KIN_STEP_LT_STPTOL && fnorm <= options.residual_tolerance);
+  if (d.report.residual_history.empty() || d.report.converged)
+    d.report.residual_history.push_back(fnorm);
+  if (d.report.converged) {
+    x = view(k.u);
+    return d.report;
+  }
+  d.report.message = d.kinsol_message.empty()
+                         ? fmt::format("KINSOL flag {} after {} iterations", flag, iterations)
+                         : d.kinsol_message;
+  // A failed factorisation is a Newton failure the load stepper may recover from by cutting
+  // back; any other C++ error raised inside a callback propagates.
+  if (d.error) {
+    try {
+      std::rethrow_exception(d.error);
+    } catch (const NumericalError& e) {
+      d.report.message = e.what();
+    }
+  }
+  return d.report;
+}
+
+} // namespace talus

@@ -1,0 +1,661 @@
+// End-to-end tests of the `talus` executable: every test runs the real binary (TALUS_BINARY) in
+// a child process, in a fresh temporary directory, and checks its exit code, its messages and the
+// files it leaves behind (run.h5, run.xmf, timeseries.csv, summary.json).
+#include "talus/io/csv.hpp"
+#include "talus/io/results.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+using talus::Index;
+using talus::ResultsReader;
+
+namespace {
+
+// The content of cases/colliding_discs.yaml without its comment lines. The expected
+// `case.yaml:<line>:<column>` locations below refer to this text (line 1 is "name: ...").
+const std::string kCase = R"(name: colliding_discs
+analysis: explicit
+grid:
+  origin: [0, 0]
+  extent: [1, 1]
+  cell_size: 0.025
+materials:
+  - name: disc
+    model: neo_hookean
+    density: 20
+    youngs_modulus: 1.0e5
+    poisson_ratio: 0.3
+bodies:
+  - name: lower
+    material: disc
+    shape: disc
+    centre: [0.2, 0.2]
+    radius: 0.2
+    particles_per_cell: 2
+    velocity: [5, 5]
+  - name: upper
+    material: disc
+    shape: disc
+    centre: [0.8, 0.8]
+    radius: 0.2
+    particles_per_cell: 2
+    velocity: [-5, -5]
+time:
+  end_time: 0.07
+  cfl: 0.5
+output:
+  every_time: 0.0025
+  fields: [velocity, mass, volume, F, stress, material]
+probes:
+  - {name: lower_centre, point: [0.2, 0.2]}
+  - {name: upper_centre, point: [0.8, 0.8]}
+solver:
+  shape: gimp
+  scheme: musl
+  transfer: flip
+  flip: 1.0
+)";
+
+const char* const kResultFiles[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json"};
+
+/// kCase (or `text`) with the one occurrence of `from` replaced by `to`.
+std::string edited(const std::string& from, const std::string& to, std::string text = kCase) {
+  const auto at = text.find(from);
+  if (at == std::string::npos || text.find(from, at + 1) != std::string::npos) {
+    ADD_FAILURE() << "test bug: '" << from << "' must occur exactly once in the case text";
+    return text;
+  }
+  return text.replace(at, from.size(), to);
+}
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_file(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  ASSERT_TRUE(out.good()) << "cannot write " << file;
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  return nlohmann::json::parse(read_file(file));
+}
+
+std::set<std::string> directory_listing(const fs::path& dir) {
+  std::set<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    names.insert(entry.path().filename().string());
+  return names;
+}
+
+/// What a finished `talus` process left: its exit code (128 + signal if it was killed) and its
+/// captured output.
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+  std::string describe() const {
+    return "exit code " + std::to_string(exit_code) + "\n--- stdout ---\n" + out +
+           "--- stderr ---\n" + err;
+  }
+};
+
+int decode_status(int status) {
+  if (WIFEXITED(status))
+    return WEXITSTATUS(status);
+  if (WIFSIGNALED(status))
+    return 128 + WTERMSIG(status);
+  return -1;
+}
+
+/// A `talus` child process with stdout and stderr redirected to files.
+class Child {
+public:
+  Child(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& capture_dir)
+      : out_file_(capture_dir / "stdout.txt"), err_file_(capture_dir / "stderr.txt") {
+    // Everything the child needs is prepared before fork(): after it, only async-signal-safe
+    // calls.
+    std::vector<std::string> argv_text{TALUS_BINARY};
+    argv_text.insert(argv_text.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : argv_text)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string cwd_text = cwd.string();
+    const std::string out_text = out_file_.string();
+    const std::string err_text = err_file_.string();
+
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      if (::chdir(cwd_text.c_str()) != 0)
+        ::_exit(126);
+      const int out = ::open(out_text.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err = ::open(err_text.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int null = ::open("/dev/null", O_RDONLY);
+      if (out < 0 || err < 0 || null < 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0 ||
+          ::dup2(null, 0) < 0)
+        ::_exit(126);
+      ::signal(SIGINT, SIG_DFL);
+      ::signal(SIGTERM, SIG_DFL);
+      sigset_t none;
+      sigemptyset(&none);
+      ::sigprocmask(SIG_SETMASK, &none, nullptr);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+  }
+  ~Child() {
+    if (pid_ > 0 && !reaped_) {
+      ::kill(pid_, SIGKILL);
+      int status = 0;
+      ::waitpid(pid_, &status, 0);
+    }
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+
+  bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
+
+  /// Non-blocking: the outcome if the child has exited, otherwise nothing.
+  std::optional<Outcome> poll() {
+    if (reaped_)
+      return outcome_;
+    int status = 0;
+    const pid_t r = ::waitpid(pid_, &status, WNOHANG);
+    if (r != pid_)
+      return std::nullopt;
+    finish(status);
+    return outcome_;
+  }
+
+  /// Blocks until the child exits.
+  Outcome wait() {
+    if (!reaped_) {
+      int status = 0;
+      pid_t r;
+      do
+        r = ::waitpid(pid_, &status, 0);
+      while (r < 0 && errno == EINTR);
+      finish(r == pid_ ? status : -1);
+    }
+    return outcome_;
+  }
+
+  /// Waits at most `cap` for the child to exit; kills it (SIGKILL) when the cap is reached.
+  std::optional<Outcome> wait_at_most(std::chrono::seconds cap) {
+    const auto deadline = std::chrono::steady_clock::now() + cap;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (auto o = poll())
+        return o;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (auto o = poll())
+      return o;
+    ::kill(pid_, SIGKILL);
+    wait();
+    return std::nullopt;
+  }
+
+  /// Output captured so far.
+  std::string output_so_far() const {
+    return "--- stdout ---\n" + read_file(out_file_) + "--- stderr ---\n" + read_file(err_file_);
+  }
+
+private:
+  void finish(int status) {
+    reaped_ = true;
+    outcome_.exit_code = status == -1 ? -1 : decode_status(status);
+    outcome_.out = read_file(out_file_);
+    outcome_.err = read_file(err_file_);
+  }
+
+  pid_t pid_ = -1;
+  bool reaped_ = false;
+  Outcome outcome_;
+  fs::path out_file_, err_file_;
+};
+
+/// Per-test fixture: a fresh temporary directory `root` holding `work` (the child's working
+/// directory, where the case files and output directories go) and the captured output files.
+class Cli : public ::testing::Test {
+protected:
+  void SetUp() override {
+    ASSERT_TRUE(fs::is_regular_file(TALUS_BINARY)) << "talus binary not found: " << TALUS_BINARY;
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::random_device rd;
+    const fs::path base = fs::temp_directory_path();
+    for (int attempt = 0; attempt < 100 && root_.empty(); ++attempt) {
+      const fs::path candidate = base / ("talus_cli_" + std::string(info->name()) + "_" +
+                                         std::to_string(::getpid()) + "_" + std::to_string(rd()));
+      std::error_code ec;
+      if (fs::create_directory(candidate, ec))
+        root_ = candidate;
+    }
+    ASSERT_FALSE(root_.empty()) << "cannot create a temporary directory in " << base;
+    work_ = root_ / "work";
+    fs::create_directory(work_);
+  }
+  void TearDown() override {
+    if (!root_.empty()) {
+      std::error_code ec;
+      fs::remove_all(root_, ec);
+    }
+  }
+
+  const fs::path& work() const { return work_; }
+
+  /// Runs `talus args...` in `cwd` (default: the work directory) and waits for it.
+  Outcome talus(const std::vector<std::string>& args, const fs::path& cwd = {}) {
+    Child child(args, cwd.empty() ? work_ : cwd, root_);
+    if (!child.started()) {
+      ADD_FAILURE() << "fork failed";
+      return {};
+    }
+    return child.wait();
+  }
+
+  fs::path root_, work_;
+};
+
+/// The four result files of a run, byte for byte, with their modification times.
+struct Snapshot {
+  std::map<std::string, std::string> content;
+  std::map<std::string, fs::file_time_type> mtime;
+  std::uintmax_t h5_size = 0;
+};
+
+Snapshot snapshot(const fs::path& dir) {
+  Snapshot s;
+  for (const char* name : kResultFiles) {
+    s.content[name] = read_file(dir / name);
+    std::error_code ec;
+    s.mtime[name] = fs::last_write_time(dir / name, ec);
+  }
+  std::error_code ec;
+  s.h5_size = fs::file_size(dir / "run.h5", ec);
+  return s;
+}
+
+void expect_unchanged(const Snapshot& before, const fs::path& dir) {
+  const Snapshot now = snapshot(dir);
+  for (const char* name : kResultFiles) {
+    EXPECT_TRUE(fs::is_regular_file(dir / name)) << name << " was removed";
+    EXPECT_TRUE(now.content.at(name) == before.content.at(name)) << name << " was changed";
+    EXPECT_TRUE(now.mtime.at(name) == before.mtime.at(name)) << name << " was rewritten";
+  }
+  EXPECT_EQ(now.h5_size, before.h5_size);
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// -------------------------------------------------------------------------------------------------
+
+TEST_F(Cli, CliRunWritesAllResultFiles) {
+  write_file(work() / "case.yaml", kCase);
+  const Outcome r = talus({"run", "case.yaml", "--out", "out", "--set", "time.end_time=0.01"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+
+  const fs::path out = work() / "out";
+  for (const char* name : kResultFiles) {
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << " missing\n" << r.describe();
+    std::error_code ec;
+    EXPECT_GT(fs::file_size(out / name, ec), 0u) << name << " is empty";
+  }
+  // With --out, nothing goes to the default results/<name>/.
+  EXPECT_FALSE(fs::exists(work() / "results"));
+  EXPECT_NE(r.out.find("completed"), std::string::npos) << r.describe();
+
+  nlohmann::json summary;
+  ASSERT_NO_THROW(summary = read_json(out / "summary.json")) << read_file(out / "summary.json");
+  EXPECT_EQ(summary.at("status").get<std::string>(), "completed");
+  EXPECT_GT(summary.at("steps").get<long long>(), 0);
+  EXPECT_NEAR(summary.at("final_time").get<double>(), 0.01, 1e-12);
+
+  ResultsReader reader(out / "run.h5");
+  const Index frames = reader.frame_count();
+  ASSERT_GE(frames, 2);
+  EXPECT_EQ(summary.at("frames").get<long long>(), frames);
+  EXPECT_EQ(reader.frame_time(0), 0.0);
+  EXPECT_NEAR(reader.frame_time(frames - 1), 0.01, 1e-12);
+  EXPECT_EQ(reader.frame_step(frames - 1), summary.at("steps").get<long long>());
+
+  const talus::CsvTable series = talus::read_csv(out / "timeseries.csv");
+  ASSERT_FALSE(series.names.empty());
+  EXPECT_EQ(series.names.front(), "time");
+  EXPECT_TRUE(contains(series.names, "time"));
+  EXPECT_TRUE(contains(series.names, "kinetic_energy"));
+  ASSERT_GE(series.rows(), 2u);
+  EXPECT_EQ(series.column("time").front(), 0.0);
+  EXPECT_NEAR(series.column("time").back(), 0.01, 1e-12);
+  EXPECT_GT(series.column("kinetic_energy").front(), 0.0);
+
+  EXPECT_NE(read_file(out / "run.xmf").find("run.h5"), std::string::npos);
+}
+
+struct BadInput {
+  std::string label;
+  std::optional<std::string> case_text; // written to case.yaml; none: no case file at all
+  std::vector<std::string> args;        // after "run"
+  std::vector<std::string> expected;    // substrings of stderr
+};
+
+TEST_F(Cli, CliBadInputClasses) {
+  const std::vector<std::string> std_args{"case.yaml", "--out", "out"};
+  const std::vector<BadInput> cases = {
+      {"unknown key",
+       edited("    youngs_modulus: 1.0e5", "    youngs_modulu: 1.0e5"),
+       std_args,
+       {"case.yaml:11:5: key 'materials[0].youngs_modulu': unknown key 'youngs_modulu'",
+        "did you mean 'youngs_modulus'?"}},
+      {"wrong type",
+       edited("density: 20", "density: abc"),
+       std_args,
+       {"case.yaml:10:14: key 'materials[0].density': expected a number, got 'abc'"}},
+      // A missing top-level section points at the top-level map, whose key path is empty.
+      {"missing time section",
+       edited("time:\n  end_time: 0.07\n  cfl: 0.5\n", ""),
+       std_args,
+       {"talus: error: case.yaml:1:1: missing required key 'time'"}},
+      {"missing end_time",
+       edited("  end_time: 0.07\n", ""),
+       std_args,
+       {"case.yaml:29:3: key 'time': missing required key 'end_time'"}},
+      {"E <= 0",
+       edited("youngs_modulus: 1.0e5", "youngs_modulus: 0"),
+       std_args,
+       {"case.yaml:11:21: key 'materials[0].youngs_modulus': must be > 0"}},
+      {"nu = 0.5",
+       edited("poisson_ratio: 0.3", "poisson_ratio: 0.5"),
+       std_args,
+       {"case.yaml:12:20: key 'materials[0].poisson_ratio':", "(got 0.5)"}},
+      {"nu = -1",
+       edited("poisson_ratio: 0.3", "poisson_ratio: -1"),
+       std_args,
+       {"case.yaml:12:20: key 'materials[0].poisson_ratio':", "(got -1)"}},
+      {"density <= 0",
+       edited("density: 20", "density: 0"),
+       std_args,
+       {"case.yaml:10:14: key 'materials[0].density': must be > 0"}},
+      // The lower disc moved left so that it sticks out of the grid at x < 0.
+      {"body outside the grid",
+       edited("centre: [0.2, 0.2]", "centre: [0.1, 0.2]"),
+       std_args,
+       {"case.yaml:18:13: key 'bodies[0].radius': body 'lower' extends outside the grid"}},
+      {"dt <= 0",
+       edited("  cfl: 0.5", "  dt: 0"),
+       std_args,
+       {"case.yaml:30:7: key 'time.dt': must be > 0"}},
+      {"cfl >= 1",
+       edited("  cfl: 0.5", "  cfl: 1"),
+       std_args,
+       {"case.yaml:30:8: key 'time.cfl':", "(got 1)"}},
+      {"YAML syntax error",
+       edited("extent: [1, 1]", "extent: [1, 1]]"),
+       std_args,
+       {"case.yaml:5:17: YAML syntax error"}},
+      {"bad --set value",
+       kCase,
+       {"case.yaml", "--out", "out", "--set", "materials.disc.youngs_modulus=-1"},
+       {"--set: key 'materials[0].youngs_modulus': must be > 0",
+        "(from --set materials.disc.youngs_modulus=-1)"}},
+      {"unknown sub-command option",
+       kCase,
+       {"case.yaml", "--out", "out", "--bogus-option"},
+       {"--bogus-option"}},
+      {"missing case file",
+       std::nullopt,
+       {"missing.yaml", "--out", "out"},
+       {"missing.yaml", "cannot open case file 'missing.yaml'"}},
+  };
+
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const BadInput& c = cases[i];
+    SCOPED_TRACE("sub-case: " + c.label);
+    const fs::path dir = work() / ("case" + std::to_string(i));
+    ASSERT_TRUE(fs::create_directory(dir));
+    if (c.case_text)
+      write_file(dir / "case.yaml", *c.case_text);
+    std::vector<std::string> args{"run"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+
+    const Outcome r = talus(args, dir);
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    for (const auto& text : c.expected)
+      EXPECT_NE(r.err.find(text), std::string::npos) << "stderr lacks \"" << text << "\"\n"
+                                                     << r.describe();
+    // Nothing was written: neither the output directory nor the default results/.
+    EXPECT_FALSE(fs::exists(dir / "out")) << r.describe();
+    EXPECT_FALSE(fs::exists(dir / "results")) << r.describe();
+    const std::set<std::string> expected_listing =
+        c.case_text ? std::set<std::string>{"case.yaml"} : std::set<std::string>{};
+    EXPECT_EQ(directory_listing(dir), expected_listing);
+  }
+}
+
+TEST_F(Cli, CliExistingResultsSurvive) {
+  write_file(work() / "case.yaml", kCase);
+  write_file(work() / "bad.yaml", edited("density: 20", "density: abc"));
+  const fs::path out = work() / "out";
+
+  const Outcome first = talus({"run", "case.yaml", "--out", "out", "--set", "time.end_time=0.01"});
+  ASSERT_EQ(first.exit_code, 0) << first.describe();
+  const Snapshot before = snapshot(out);
+  ASSERT_GT(before.h5_size, 0u);
+  ASSERT_FALSE(before.content.at("summary.json").empty());
+
+  {
+    SCOPED_TRACE("(a) same directory without --force");
+    const Outcome r = talus({"run", "case.yaml", "--out", "out", "--set", "time.end_time=0.02"});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find("--force"), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("'out'"), std::string::npos) << r.describe();
+    expect_unchanged(before, out);
+  }
+  {
+    SCOPED_TRACE("(b) bad case file with --force");
+    const Outcome r = talus({"run", "bad.yaml", "--out", "out", "--force"});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find("bad.yaml:10:14: key 'materials[0].density'"), std::string::npos)
+        << r.describe();
+    expect_unchanged(before, out);
+  }
+  {
+    SCOPED_TRACE("(b) bad --set value with --force");
+    const Outcome r = talus({"run", "case.yaml", "--out", "out", "--force", "--set",
+                             "materials.disc.poisson_ratio=0.5"});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_NE(r.err.find("--set: key 'materials[0].poisson_ratio'"), std::string::npos)
+        << r.describe();
+    expect_unchanged(before, out);
+  }
+  {
+    SCOPED_TRACE("(c) valid case with --force");
+    // A file that is not a result file; --force replaces only the run's own files.
+    write_file(out / "notes.txt", "my notes\n");
+    const Outcome r =
+        talus({"run", "case.yaml", "--out", "out", "--force", "--set", "time.end_time=0.02"});
+    ASSERT_EQ(r.exit_code, 0) << r.describe();
+    for (const char* name : kResultFiles)
+      EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
+    const std::string summary_text = read_file(out / "summary.json");
+    EXPECT_NE(summary_text, before.content.at("summary.json"));
+    const nlohmann::json summary = nlohmann::json::parse(summary_text);
+    EXPECT_EQ(summary.at("status").get<std::string>(), "completed");
+    EXPECT_NEAR(summary.at("final_time").get<double>(), 0.02, 1e-12);
+    ResultsReader reader(out / "run.h5");
+    ASSERT_GE(reader.frame_count(), 2);
+    EXPECT_NEAR(reader.frame_time(reader.frame_count() - 1), 0.02, 1e-12);
+    EXPECT_EQ(read_file(out / "notes.txt"), "my notes\n");
+  }
+}
+
+TEST_F(Cli, CliInterruptKeepsFramesReadable) {
+  // The discs start at rest, so nothing can collide or leave the grid: the run goes on until it
+  // is interrupted (end_time = 100 s would take hours).
+  write_file(work() / "case.yaml", kCase);
+  const fs::path out = work() / "out";
+  const fs::path h5 = out / "run.h5";
+  Child child({"run", "case.yaml", "--out", "out", "--set", "time.end_time=100", "--set",
+               "output.every_steps=20", "--set", "bodies.lower.velocity=[0, 0]", "--set",
+               "bodies.upper.velocity=[0, 0]"},
+              work(), root_);
+  ASSERT_TRUE(child.started());
+
+  // Wait until at least two frames can be read (the writer may hold the file at any moment).
+  bool ready = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!ready && std::chrono::steady_clock::now() < deadline) {
+    if (const auto early = child.poll())
+      FAIL() << "talus exited before it was interrupted\n" << early->describe();
+    std::error_code ec;
+    if (fs::exists(h5, ec)) {
+      try {
+        ready = ResultsReader(h5).frame_count() >= 2;
+      } catch (const std::exception&) {
+        // the writer holds the file or is half-way through creating it
+      }
+    }
+    if (!ready)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(ready) << "run.h5 never held 2 readable frames\n" << child.output_so_far();
+
+  ASSERT_EQ(::kill(child.pid(), SIGINT), 0);
+  const auto outcome = child.wait_at_most(std::chrono::seconds(60));
+  ASSERT_TRUE(outcome.has_value()) << "talus did not stop after SIGINT\n" << child.output_so_far();
+  EXPECT_EQ(outcome->exit_code, 1) << outcome->describe();
+  EXPECT_NE(outcome->err.find("interrupted"), std::string::npos) << outcome->describe();
+
+  nlohmann::json summary;
+  ASSERT_NO_THROW(summary = read_json(out / "summary.json")) << read_file(out / "summary.json");
+  EXPECT_EQ(summary.at("status").get<std::string>(), "interrupted");
+  const double final_time = summary.at("final_time").get<double>();
+  EXPECT_GT(final_time, 0.0);
+  EXPECT_LT(final_time, 100.0);
+  const auto particles = summary.at("particles").get<long long>();
+  EXPECT_GT(particles, 0);
+
+  ResultsReader reader(h5);
+  const Index frames = reader.frame_count();
+  ASSERT_GE(frames, 2);
+  EXPECT_EQ(summary.at("frames").get<long long>(), frames);
+  // The final frame is the state at which the run stopped.
+  EXPECT_NEAR(reader.frame_time(frames - 1), final_time, 1e-12 * std::max(1.0, final_time));
+  EXPECT_EQ(reader.frame_step(frames - 1), summary.at("steps").get<long long>());
+  for (Index f = 0; f < frames; ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    if (f > 0) {
+      EXPECT_GT(reader.frame_time(f), reader.frame_time(f - 1));
+    }
+    Index rows = 0, cols = 0;
+    std::vector<double> position;
+    ASSERT_NO_THROW(position = reader.read(f, "position", &rows, &cols));
+    EXPECT_EQ(rows, particles);
+    EXPECT_EQ(cols, 2);
+    EXPECT_EQ(position.size(), static_cast<std::size_t>(rows * cols));
+    EXPECT_TRUE(
+        std::all_of(position.begin(), position.end(), [](double v) { return std::isfinite(v); }));
+  }
+
+  const talus::CsvTable series = talus::read_csv(out / "timeseries.csv");
+  ASSERT_GE(series.rows(), 2u);
+  EXPECT_NEAR(series.column("time").back(), final_time, 1e-12 * std::max(1.0, final_time));
+}
+
+TEST_F(Cli, CliInfoAndHelp) {
+  {
+    SCOPED_TRACE("talus info");
+    const Outcome r = talus({"info"});
+    EXPECT_EQ(r.exit_code, 0) << r.describe();
+    EXPECT_NE(r.out.find(std::string("talus ") + TALUS_VERSION), std::string::npos) << r.describe();
+  }
+  {
+    SCOPED_TRACE("talus --help");
+    const Outcome r = talus({"--help"});
+    EXPECT_EQ(r.exit_code, 0) << r.describe();
+    EXPECT_NE(r.out.find("run"), std::string::npos) << r.describe();
+    EXPECT_NE(r.out.find("verify"), std::string::npos) << r.describe();
+    EXPECT_NE(r.out.find("info"), std::string::npos) << r.describe();
+  }
+  {
+    SCOPED_TRACE("talus run --help");
+    const Outcome r = talus({"run", "--help"});
+    EXPECT_EQ(r.exit_code, 0) << r.describe();
+    for (const char* option : {"--out", "--set", "--force", "--threads"})
+      EXPECT_NE(r.out.find(option), std::string::npos) << option << "\n" << r.describe();
+  }
+  {
+    SCOPED_TRACE("talus verify --help");
+    const Outcome r = talus({"verify", "--help"});
+    EXPECT_EQ(r.exit_code, 0) << r.describe();
+    EXPECT_NE(r.out.find("--tier"), std::string::npos) << r.describe();
+  }
+  {
+    SCOPED_TRACE("talus without a sub-command");
+    const Outcome r = talus({});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_FALSE(r.err.empty()) << r.describe();
+  }
+  {
+    SCOPED_TRACE("talus with an unknown sub-command");
+    const Outcome r = talus({"frobnicate"});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_FALSE(r.err.empty()) << r.describe();
+  }
+  // None of these wrote anything.
+  EXPECT_TRUE(directory_listing(work()).empty());
+}
+
+TEST_F(Cli, CliShippedCaseRuns) {
+  const fs::path shipped = fs::weakly_canonical(fs::path(TALUS_TEST_DATA_DIR "/../..") / "cases" /
+                                                "colliding_discs.yaml");
+  ASSERT_TRUE(fs::is_regular_file(shipped)) << shipped;
+  const Outcome r =
+      talus({"run", shipped.string(), "--out", "out", "--set", "time.end_time=0.005"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const fs::path out = work() / "out";
+  for (const char* name : kResultFiles)
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
+  const nlohmann::json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary.at("status").get<std::string>(), "completed");
+  EXPECT_NEAR(summary.at("final_time").get<double>(), 0.005, 1e-12);
+  ResultsReader reader(out / "run.h5");
+  EXPECT_GE(reader.frame_count(), 2);
+  // run.h5 keeps the case file as written.
+  EXPECT_EQ(reader.case_text(), read_file(shipped));
+}
+
+} // namespace
