@@ -22,12 +22,11 @@ int print_info() {
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
   fmt::print("dimension       2 (plane strain)\n");
-  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC blend)\n");
+  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC or APIC), implicit_quasistatic\n");
   fmt::print("shape functions linear, gimp (uGIMP)\n");
   fmt::print("materials       linear_elastic, neo_hookean, hencky\n");
   fmt::print("OpenMP threads  {} available\n", omp_get_max_threads());
-  fmt::print("linear solvers  {} (for the implicit solver, in progress)\n",
-             fmt::join(available_linear_solvers(), ", "));
+  fmt::print("linear solvers  {}\n", fmt::join(available_linear_solvers(), ", "));
   fmt::print("Newton driver   SUNDIALS KINSOL {}\n", TALUS_SUNDIALS_VERSION);
   fmt::print("results         HDF5 + XDMF (ParaView), CSV, JSON\n");
   fmt::print("data directory  {}\n", verification_dir().parent_path().string());

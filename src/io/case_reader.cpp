@@ -3,6 +3,7 @@
 #include "talus/io/case_reader.hpp"
 
 #include "talus/core/expression.hpp"
+#include "talus/linalg/linear_solver.hpp"
 
 #include "talus/core/errors.hpp"
 #include "yaml_support.hpp"
@@ -396,11 +397,11 @@ std::string Validator::case_name(const Item& it) const {
 }
 
 AnalysisType Validator::analysis(const Item& it) const {
-  if (it.node.IsScalar() &&
-      (it.node.Scalar() == "implicit_quasistatic" || it.node.Scalar() == "implicit_dynamic"))
-    fail(it, "analysis '" + it.node.Scalar() +
-                 "' is not available yet; only 'explicit' is supported for now");
-  return choice<AnalysisType>(it, {{"explicit", AnalysisType::Explicit}});
+  if (it.node.IsScalar() && it.node.Scalar() == "implicit_dynamic")
+    fail(it, "analysis 'implicit_dynamic' is not available yet; use 'explicit' or "
+             "'implicit_quasistatic'");
+  return choice<AnalysisType>(it, {{"explicit", AnalysisType::Explicit},
+                                   {"implicit_quasistatic", AnalysisType::ImplicitQuasistatic}});
 }
 
 int Validator::dimension(const Item& it) const {
@@ -729,7 +730,7 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
 }
 
 TimeSpec Validator::time(const Item& it) const {
-  const Map m(*this, it, {"end_time", "cfl", "dt", "max_steps"});
+  const Map m(*this, it, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
   TimeSpec t;
   t.end_time = positive(m.required("end_time"));
   if (m.has("cfl")) {
@@ -744,6 +745,11 @@ TimeSpec Validator::time(const Item& it) const {
     fail(m.key("dt"), "give exactly one of 'cfl' and 'dt', not both");
   if (!t.cfl && !t.dt)
     fail(m.self(), "missing required key 'cfl' or 'dt' (give exactly one)");
+  if (m.has("min_dt")) {
+    t.min_dt = positive(m["min_dt"]);
+    if (t.dt && *t.min_dt > *t.dt)
+      fail(m["min_dt"], "must not exceed dt");
+  }
   if (m.has("max_steps")) {
     const Item max_steps = m["max_steps"];
     t.max_steps = integer(max_steps);
@@ -811,7 +817,9 @@ std::vector<ProbeSpec> Validator::probes(const Item& it) const {
 }
 
 SolverSpec Validator::solver(const Item& it) const {
-  const Map m(*this, it, {"shape", "scheme", "transfer", "flip"});
+  const Map m(*this, it,
+              {"shape", "scheme", "transfer", "flip", "linear_solver", "newton_tolerance",
+               "max_newton_iterations"});
   SolverSpec s;
   if (m.has("shape"))
     s.shape = choice<ShapeFunction>(
@@ -825,6 +833,27 @@ SolverSpec Validator::solver(const Item& it) const {
     s.flip = number(flip);
     if (!(s.flip >= 0 && s.flip <= 1))
       fail(flip, "must be in [0, 1] (got " + flip.node.Scalar() + ")");
+  }
+  if (m.has("linear_solver")) {
+    const Item ls = m["linear_solver"];
+    LinearSolverKind kind;
+    if (!ls.node.IsScalar() || !parse_linear_solver_kind(ls.node.Scalar(), kind))
+      fail(ls, "unknown linear solver '" + (ls.node.IsScalar() ? ls.node.Scalar() : "") +
+                   "' (built in: " + join(available_linear_solvers()) + ")");
+    s.linear_solver = ls.node.Scalar();
+  }
+  if (m.has("newton_tolerance")) {
+    const Item tol = m["newton_tolerance"];
+    s.newton_tolerance = positive(tol);
+    if (s.newton_tolerance >= 1e-2)
+      fail(tol, "must be below 1e-2 (got " + tol.node.Scalar() + ")");
+  }
+  if (m.has("max_newton_iterations")) {
+    const Item it_max = m["max_newton_iterations"];
+    const Index v = integer(it_max);
+    if (v < 1 || v > 200)
+      fail(it_max, "must be an integer in [1, 200] (got " + it_max.node.Scalar() + ")");
+    s.max_newton_iterations = static_cast<int>(v);
   }
   if (m.has("transfer")) {
     s.transfer = choice<TransferScheme>(
@@ -870,6 +899,11 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))
     spec.solver = solver(top["solver"]);
+  if (spec.analysis == AnalysisType::ImplicitQuasistatic && spec.time.cfl) {
+    const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+    fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
+                          "needs 'dt', its initial load step");
+  }
   return spec;
 }
 

@@ -25,20 +25,39 @@ Vec3 hencky_principal_stress(const Vec3& x, const LameParameters& lame) {
 
 } // namespace
 
-Mat3 linear_elastic_kirchhoff(const Mat3& F, const LameParameters& lame) {
+namespace {
+// Small-strain energy W = lambda/2 (tr eps)^2 + mu eps:eps with eps = sym(F) - I; its first
+// Piola stress P = dW/dF = lambda tr(eps) I + 2 mu eps.
+Mat3 small_strain_piola(const Mat3& F, const LameParameters& lame) {
   const Mat3 eps = 0.5 * (F + F.transpose()) - Mat3::Identity();
   return lame.lambda * eps.trace() * Mat3::Identity() + 2.0 * lame.mu * eps;
 }
+} // namespace
+
+Mat3 linear_elastic_kirchhoff(const Mat3& F, const LameParameters& lame) {
+  return small_strain_piola(F, lame) * F.transpose();
+}
 
 StressTangent linear_elastic_response(const Mat3& F, const LameParameters& lame) {
+  // tau = P F^T, so dtau_ij/dF_kl = sum_m dP_im/dF_kl F_jm + P_il delta_jk with
+  // dP_im/dF_kl = lambda delta_im delta_kl + mu (delta_ik delta_ml + delta_il delta_mk).
+  const Mat3 P = small_strain_piola(F, lame);
   StressTangent r;
-  r.kirchhoff = linear_elastic_kirchhoff(F, lame);
+  r.kirchhoff = P * F.transpose();
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      r.dtau_dF(flat_index(i, i), flat_index(j, j)) += lame.lambda;
-      r.dtau_dF(flat_index(i, j), flat_index(i, j)) += lame.mu;
-      r.dtau_dF(flat_index(i, j), flat_index(j, i)) += lame.mu;
-    }
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l) {
+          double v = 0;
+          for (int m = 0; m < 3; ++m) {
+            const double dP = lame.lambda * (i == m) * (k == l) +
+                              lame.mu * ((i == k) * (m == l) + (i == l) * (m == k));
+            v += dP * F(j, m);
+          }
+          if (j == k)
+            v += P(i, l);
+          r.dtau_dF(flat_index(i, j), flat_index(k, l)) = v;
+        }
   return r;
 }
 

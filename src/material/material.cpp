@@ -29,7 +29,12 @@ double checked_jacobian(const Mat3& F, const char* model, const std::string& nam
 } // namespace
 
 Mat3 LinearElastic::stress(const Mat3& F) const {
-  return linear_elastic_kirchhoff(F, lame()); // small strain: sigma = tau
+  const double J = checked_jacobian(F, "linear elastic", name());
+  return linear_elastic_kirchhoff(F, lame()) / J;
+}
+
+StressTangent LinearElastic::response(const Mat3& F) const {
+  return linear_elastic_response(F, lame());
 }
 
 double LinearElastic::energy_density(const Mat3& F) const {
@@ -42,6 +47,11 @@ Mat3 NeoHookean::stress(const Mat3& F) const {
   return neo_hookean_kirchhoff(F, lame()) / J;
 }
 
+StressTangent NeoHookean::response(const Mat3& F) const {
+  checked_jacobian(F, "neo-Hookean", name());
+  return neo_hookean_response(F, lame());
+}
+
 double NeoHookean::energy_density(const Mat3& F) const {
   const double J = F.determinant();
   const double lnJ = std::log(J);
@@ -52,6 +62,11 @@ double NeoHookean::energy_density(const Mat3& F) const {
 Mat3 Hencky::stress(const Mat3& F) const {
   const double J = checked_jacobian(F, "Hencky", name());
   return hencky_kirchhoff(F, lame()) / J;
+}
+
+StressTangent Hencky::response(const Mat3& F) const {
+  checked_jacobian(F, "Hencky", name());
+  return hencky_response(F, lame());
 }
 
 double Hencky::energy_density(const Mat3& F) const {

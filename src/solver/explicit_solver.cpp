@@ -296,13 +296,7 @@ private:
 } // namespace
 
 std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<2>& scene) {
-  switch (scene.spec.solver.shape) {
-  case ShapeFunction::Linear:
-    return std::make_unique<ExplicitSolverImpl<LinearShape>>(scene);
-  case ShapeFunction::Gimp:
-    return std::make_unique<ExplicitSolverImpl<GimpShape>>(scene);
-  }
-  throw std::logic_error("unknown shape function");
+  return make_for_shape<ExplicitSolver, ExplicitSolverImpl>(scene.spec.solver.shape, scene);
 }
 
 } // namespace talus

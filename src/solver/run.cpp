@@ -5,6 +5,7 @@
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
 #include "talus/solver/explicit_solver.hpp"
+#include "talus/solver/implicit_solver.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -25,7 +26,8 @@ extern "C" void on_interrupt(int) {
 }
 
 // Result files a run owns; --force replaces exactly these and leaves anything else alone.
-const char* const kResultFiles[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json"};
+const char* const kResultFiles[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json",
+                                    "newton.log"};
 
 RunMetadata metadata_of(const Scene<2>& scene) {
   const CaseSpec& spec = scene.spec;
@@ -66,9 +68,9 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
   return cols;
 }
 
-std::vector<double> timeseries_row(const Scene<2>& scene, const ExplicitSolver& solver, double time,
+std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
+                                   const std::array<Vec2, kFaceCount>& reactions, double time,
                                    Index step, double dt) {
-  const Energies e = solver.energies();
   std::vector<double> row = {time,
                              static_cast<double>(step),
                              dt,
@@ -78,7 +80,6 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const ExplicitSolver& 
                              e.kinetic + e.strain + e.gravity,
                              e.momentum.x(),
                              e.momentum.y()};
-  const auto reactions = solver.reactions();
   for (int f = 0; f < kFaceCount; ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       row.push_back(reactions[static_cast<std::size_t>(f)].x());
@@ -91,6 +92,172 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const ExplicitSolver& 
                            P.stress[s](1, 1), P.stress[s](0, 1), P.stress[s](2, 2)});
   }
   return row;
+}
+
+// What both analyses share while stepping: frames on the output schedule, time-series rows,
+// progress, and the interrupt flag.
+struct Recorder {
+  const Scene<2>& scene;
+  ResultsWriter& writer;
+  TimeSeriesWriter& series;
+  Progress& progress;
+  double frame_interval;
+  double next_frame_time;
+  bool frame_at_current_step = true;
+
+  /// The end of the next step: the end time or the next frame time, whichever comes first.
+  double target(double end_time) const {
+    return frame_interval > 0 ? std::min(end_time, next_frame_time) : end_time;
+  }
+  void after_step(Index step, double t, double dt, const Energies& e,
+                  const std::array<Vec2, kFaceCount>& reactions, const std::string& extra) {
+    series.append(timeseries_row(scene, e, reactions, t, step, dt));
+    const OutputSpec& out = scene.spec.output;
+    frame_at_current_step = false;
+    const bool due =
+        out.every_steps ? (step % *out.every_steps == 0) : (t >= next_frame_time * (1.0 - 1e-12));
+    if (due) {
+      writer.write_frame(step, t, scene.particles, out.fields);
+      frame_at_current_step = true;
+      while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
+        next_frame_time += frame_interval;
+    }
+    progress.update(step, t, dt, extra);
+  }
+  /// Makes sure the state the run ends in is a frame.
+  void final_frame(Index step, double t) {
+    if (!frame_at_current_step)
+      writer.write_frame(step, t, scene.particles, scene.spec.output.fields);
+    frame_at_current_step = true;
+  }
+};
+
+struct LoopState {
+  double t = 0;
+  Index step = 0;
+};
+
+void check_limits(const TimeSpec& time, const LoopState& s) {
+  if (s.step >= time.max_steps)
+    throw NumericalError(fmt::format("reached max_steps = {} at t = {:g} before end_time = "
+                                     "{:g}; raise time.max_steps or the time step",
+                                     time.max_steps, s.t, time.end_time));
+}
+
+// Time steps shorter than this fraction of the nominal step are absorbed into the previous
+// one, so round-off never produces a sliver step at an output time or the end.
+constexpr double kSliver = 1e-9;
+
+/// Explicit dynamics: CFL or fixed steps until end_time.
+void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result) {
+  auto solver = make_explicit_solver(scene);
+  const TimeSpec& time = scene.spec.time;
+  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), 0, 0, 0));
+  while (s.t < time.end_time * (1.0 - 1e-14)) {
+    check_limits(time, s);
+    if (g_interrupted)
+      return;
+    double dt = time.dt ? *time.dt : solver->stable_dt(*time.cfl);
+    if (!(dt > 0) || !std::isfinite(dt))
+      throw NumericalError(fmt::format("time step became {:g}", dt));
+    const double target = rec.target(time.end_time);
+    if (s.t + dt * (1.0 + kSliver) >= target)
+      dt = target - s.t;
+    solver->step(dt);
+    s.t = (s.t + dt >= target) ? target : s.t + dt;
+    ++s.step;
+    const Energies e = solver->energies();
+    if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
+      throw NumericalError("non-finite energy");
+    rec.after_step(s.step, s.t, dt, e, solver->reactions(), {});
+  }
+  rec.final_frame(s.step, s.t);
+  result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
+}
+
+/// Implicit quasi-static: load steps of pseudo-time, cut back (halved) when Newton fails and
+/// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
+/// residual history goes to newton.log. A failure at the minimum step ends the run after
+/// writing the last converged state as a frame.
+void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
+                  const fs::path& out_dir) {
+  auto solver = make_implicit_solver(scene);
+  const TimeSpec& time = scene.spec.time;
+  const double dt0 = *time.dt;
+  const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
+  double dt = dt0;
+  int easy_steps = 0;
+  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), "w");
+  if (!log)
+    throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
+  std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
+  double assembly = 0, factorization = 0, solve = 0;
+  Index newton_iterations = 0, linear_solves = 0, cutbacks = 0, max_iterations = 0;
+  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), 0, 0, 0));
+  auto record_totals = [&] {
+    result.extra["load_steps"] = static_cast<double>(s.step);
+    result.extra["newton_iterations"] = static_cast<double>(newton_iterations);
+    result.extra["newton_iterations_max_per_step"] = static_cast<double>(max_iterations);
+    result.extra["linear_solves"] = static_cast<double>(linear_solves);
+    result.extra["cutbacks"] = static_cast<double>(cutbacks);
+    result.extra["seconds_assembly"] = assembly;
+    result.extra["seconds_factorization"] = factorization;
+    result.extra["seconds_solve"] = solve;
+    result.extra["seconds_particle_update"] = solver->seconds_particle_update();
+    result.extra["unknowns_last_step"] = static_cast<double>(solver->unknowns());
+  };
+  try {
+    while (s.t < time.end_time * (1.0 - 1e-14)) {
+      check_limits(time, s);
+      if (g_interrupted)
+        break;
+      const double target = rec.target(time.end_time);
+      double step_dt = std::min(dt, target - s.t);
+      if (s.t + step_dt * (1.0 + kSliver) >= target)
+        step_dt = target - s.t;
+      const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
+      const NewtonReport r = solver->step(t_end / time.end_time, step_dt);
+      assembly += r.seconds_assembly;
+      factorization += r.seconds_factorization;
+      solve += r.seconds_solve;
+      newton_iterations += r.iterations;
+      linear_solves += r.linear_solves;
+      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1), t_end,
+                   step_dt, r.converged ? "yes" : "no", r.iterations);
+      for (double v : r.residual_history)
+        std::fprintf(log, " %.3e", v);
+      std::fprintf(log, "%s%s\n", r.converged ? "" : "  ", r.message.c_str());
+      std::fflush(log);
+      if (!r.converged) {
+        ++cutbacks;
+        easy_steps = 0;
+        if (step_dt <= min_dt * (1.0 + 1e-12))
+          throw NumericalError(fmt::format(
+              "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}): {}",
+              step_dt, s.t, t_end, r.message));
+        dt = std::max(0.5 * step_dt, min_dt);
+        continue;
+      }
+      max_iterations = std::max<Index>(max_iterations, r.iterations);
+      s.t = t_end;
+      ++s.step;
+      if (r.iterations <= 4 && ++easy_steps >= 2) {
+        dt = std::min(2.0 * dt, dt0);
+        easy_steps = 0;
+      } else if (r.iterations > 4) {
+        easy_steps = 0;
+      }
+      rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
+                     fmt::format("newton {}", r.iterations));
+    }
+  } catch (const NumericalError&) {
+    record_totals();
+    rec.final_frame(s.step, s.t); // the last converged state
+    throw;
+  }
+  record_totals();
+  rec.final_frame(s.step, s.t);
 }
 
 } // namespace
@@ -123,7 +290,6 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   if (options.threads > 0)
     omp_set_num_threads(options.threads);
 
-  auto solver = make_explicit_solver(scene);
   fs::create_directories(result.out_dir);
   ResultsWriter writer(result.out_dir, metadata_of(scene));
   TimeSeriesWriter series(result.out_dir / "timeseries.csv", timeseries_columns(scene));
@@ -132,81 +298,44 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   const OutputSpec& out = spec.output;
   const double frame_interval =
       out.every_time ? *out.every_time : (out.every_steps ? 0.0 : time.end_time / 20.0);
-  double next_frame_time = frame_interval;
 
   g_interrupted = false;
   auto previous_sigint = std::signal(SIGINT, on_interrupt);
   auto previous_sigterm = std::signal(SIGTERM, on_interrupt);
 
   Progress progress(spec.name, time.end_time, options.progress);
-  double t = 0;
-  Index step = 0;
-  double dt = 0;
+  Recorder recorder{scene, writer, series, progress, frame_interval, frame_interval};
+  LoopState state;
   result.status = "completed";
   result.particles = scene.particles.size();
   writer.write_frame(0, 0.0, scene.particles, out.fields);
-  series.append(timeseries_row(scene, *solver, t, step, 0.0));
-  bool frame_at_current_step = true;
-  // Time steps shorter than this fraction of the nominal step are absorbed into the previous
-  // one, so round-off never produces a sliver step at an output time or the end.
-  constexpr double kSliver = 1e-9;
   try {
-    while (t < time.end_time * (1.0 - 1e-14)) {
-      if (step >= time.max_steps)
-        throw NumericalError(fmt::format("reached max_steps = {} at t = {:g} before end_time = "
-                                         "{:g}; raise time.max_steps or the time step",
-                                         time.max_steps, t, time.end_time));
-      if (g_interrupted) {
-        result.status = "interrupted";
-        result.message = fmt::format("interrupted at step {}, t = {:g}", step, t);
-        result.exit_code = kExitOther;
-        break;
-      }
-      dt = time.dt ? *time.dt : solver->stable_dt(*time.cfl);
-      if (!(dt > 0) || !std::isfinite(dt))
-        throw NumericalError(
-            fmt::format("time step became {:g} at step {}, t = {:g}", dt, step, t));
-      double target = time.end_time;
-      if (frame_interval > 0)
-        target = std::min(target, next_frame_time);
-      if (t + dt * (1.0 + kSliver) >= target)
-        dt = target - t;
-      solver->step(dt);
-      t = (t + dt >= target) ? target : t + dt;
-      ++step;
-      series.append(timeseries_row(scene, *solver, t, step, dt));
-      const Energies e = solver->energies();
-      if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
-        throw NumericalError(fmt::format("non-finite energy at step {}, t = {:g}", step, t));
-      frame_at_current_step = false;
-      const bool frame_due =
-          out.every_steps ? (step % *out.every_steps == 0) : (t >= next_frame_time * (1.0 - 1e-12));
-      if (frame_due) {
-        writer.write_frame(step, t, scene.particles, out.fields);
-        frame_at_current_step = true;
-        while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
-          next_frame_time += frame_interval;
-      }
-      progress.update(step, t, dt);
+    if (spec.analysis == AnalysisType::Explicit)
+      run_explicit(scene, recorder, state, result);
+    else
+      run_implicit(scene, recorder, state, result, result.out_dir);
+    if (g_interrupted) {
+      recorder.final_frame(state.step, state.t);
+      result.status = "interrupted";
+      result.message = fmt::format("interrupted at step {}, t = {:g}", state.step, state.t);
+      result.exit_code = kExitOther;
     }
-    if (!frame_at_current_step)
-      writer.write_frame(step, t, scene.particles, out.fields);
   } catch (const NumericalError& err) {
     result.status = "numerical_failure";
-    result.message = fmt::format("step {}, t = {:g}: {}", step + 1, t, err.what());
+    result.message = fmt::format("step {}, t = {:g}: {}", state.step + 1, state.t, err.what());
     result.exit_code = kExitNumerical;
   }
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 
-  result.steps = step;
-  result.final_time = t;
+  result.steps = state.step;
+  result.final_time = state.t;
   result.frames = writer.frames_written();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   progress.finish(result.status == "completed"
-                      ? fmt::format("done: {} steps, {} frames, {:.2f} s", step, result.frames,
-                                    result.wall_seconds)
+                      ? fmt::format("done: {} steps, {} frames, {:.2f} s", state.step,
+                                    result.frames, result.wall_seconds)
                       : result.status + ": " + result.message);
 
   RunSummary summary;
@@ -218,7 +347,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   summary.particles = result.particles;
   summary.frames = result.frames;
   summary.wall_seconds = result.wall_seconds;
-  summary.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
+  summary.extra = result.extra;
   write_summary_json(result.out_dir / "summary.json", summary);
   return result;
 }

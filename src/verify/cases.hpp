@@ -10,6 +10,7 @@ VerificationCase vibrating_bar();
 VerificationCase colliding_discs();
 VerificationCase rigid_translation();
 VerificationCase rigid_rotation();
+VerificationCase cantilever();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);

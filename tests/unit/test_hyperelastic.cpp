@@ -159,7 +159,8 @@ TEST(HyperelasticSmallStrain, NeoHookeanAndHenckyReduceToLinearElasticity) {
   std::printf("[ small ] neo-Hookean %.2e  Hencky %.2e\n", e_neo, e_hencky);
   EXPECT_LT(e_neo, 1e-6);
   EXPECT_LT(e_hencky, 1e-6);
-  EXPECT_LT(rel(linear_elastic_kirchhoff(F, kLame), expected), 1e-15);
+  // tau = P F^T differs from the small-strain sigma by O(|grad u|^2) relative: 1e-7 here
+  EXPECT_LT(rel(linear_elastic_kirchhoff(F, kLame), expected), 1e-6);
   // the tangents at F = I all equal the small-strain modulus
   const Mat9 C = linear_elastic_response(Mat3::Identity(), kLame).dtau_dF;
   EXPECT_LT((neo_hookean_response(Mat3::Identity(), kLame).dtau_dF - C).norm(), 1e-12 * C.norm());
@@ -242,8 +243,9 @@ TEST(HyperelasticMaterials, ClassStressesShareTheKirchhoffFunctions) {
   const NeoHookean neo("n", 1000.0, kLame);
   for (const auto& c : tangent_cases()) {
     SCOPED_TRACE(c.name);
-    EXPECT_EQ(linear.stress(c.F), linear_elastic_kirchhoff(c.F, kLame));
     const double J = c.F.determinant();
+    EXPECT_LT((linear.stress(c.F) - linear_elastic_kirchhoff(c.F, kLame) / J).norm(),
+              1e-15 * (1.0 + linear.stress(c.F).norm()));
     EXPECT_LT((neo.stress(c.F) - neo_hookean_kirchhoff(c.F, kLame) / J).norm(),
               1e-15 * (1.0 + neo.stress(c.F).norm()));
   }

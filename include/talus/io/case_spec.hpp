@@ -12,7 +12,10 @@
 
 namespace talus {
 
-enum class AnalysisType { Explicit };
+/// explicit: dynamic, central-difference-like MPM step under a CFL limit.
+/// implicit_quasistatic: equilibrium at each load step by Newton's method (pseudo-time t in
+/// [0, end_time] scales every load by t / end_time).
+enum class AnalysisType { Explicit, ImplicitQuasistatic };
 enum class ShapeFunction { Linear, Gimp };
 enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
@@ -85,6 +88,8 @@ struct TimeSpec {
   std::optional<double> dt;   ///< s, > 0: fixed step; exactly one of dt and cfl
   std::optional<double> cfl;  ///< -, in (0, 1): dt = cfl * h / max(c_p + |v|)
   Index max_steps = 10000000; ///< safety cap (default 1e7)
+  /// Implicit: smallest load step the adaptive stepping may cut back to (default dt / 1024).
+  std::optional<double> min_dt;
 };
 
 enum class OutputField { Velocity, Mass, Volume, DeformationGradient, Stress, Material };
@@ -111,6 +116,11 @@ struct SolverSpec {
   /// With transfer flip: FLIP fraction in [0, 1] of the particle velocity update
   /// (1 = FLIP, 0 = PIC). Ignored by apic.
   double flip = 1.0;
+  // --- implicit analyses ---
+  std::string linear_solver = "cholmod"; ///< cholmod | umfpack | klu | eigen_cg | eigen_bicgstab |
+                                         ///< trilinos_cg | trilinos_gmres
+  double newton_tolerance = 1e-8; ///< max |R| <= tolerance * (largest external force scale)
+  int max_newton_iterations = 20;
 };
 
 struct CaseSpec {

@@ -9,23 +9,18 @@
 #include "talus/core/types.hpp"
 #include "talus/material/material.hpp"
 #include "talus/material/principal_space.hpp"
+#include "talus/material/stress_tangent.hpp"
 
 namespace talus {
 
-/// Kirchhoff stress tau = J sigma and its derivative with respect to the deformation
-/// gradient, flattened row-major: dtau_dF(3*i + j, 3*k + l) = d tau_ij / d F_kl.
-struct StressTangent {
-  Mat3 kirchhoff = Mat3::Zero();
-  Mat9 dtau_dF = Mat9::Zero();
-};
-
-/// Small-strain linear elasticity: tau := sigma = lambda tr(eps) I + 2 mu eps with
-/// eps = sym(F) - I. Small-strain law, so J is taken as 1 (tau and sigma coincide) and the
-/// result is not objective under finite rotation. Defined for any F.
+/// Small-strain linear elasticity as a hyperelastic law: stored energy
+/// W = lambda/2 (tr eps)^2 + mu eps:eps with eps = sym(F) - I, first Piola P = dW/dF =
+/// lambda tr(eps) I + 2 mu eps, and tau = P F^T. For small displacements tau = sigma is the
+/// textbook linear law; deriving it from W keeps the implicit tangent symmetric. Not objective
+/// under finite rotation (use neo_hookean or hencky there). Defined for any F.
 Mat3 linear_elastic_kirchhoff(const Mat3& F, const LameParameters& lame);
-/// tau as above and dtau_dF = lambda I (x) I + 2 mu sym (constant).
+/// tau as above and its derivative dtau/dF.
 StressTangent linear_elastic_response(const Mat3& F, const LameParameters& lame);
-
 /// Compressible neo-Hookean: tau = mu (b - I) + lambda ln(J) I, b = F F^T, J = det F.
 /// Throws NumericalError if J <= 0.
 Mat3 neo_hookean_kirchhoff(const Mat3& F, const LameParameters& lame);

@@ -5,6 +5,7 @@
 #include "talus/core/parallel.hpp"
 #include "talus/core/types.hpp"
 #include "talus/io/case_spec.hpp"
+#include "talus/material/stress_tangent.hpp"
 
 #include <memory>
 #include <span>
@@ -44,6 +45,10 @@ public:
                              std::span<Mat3> stress) const = 0;
   /// Stored (strain) energy per unit reference volume.
   virtual double energy_density(const Mat3& F) const = 0;
+  /// Kirchhoff stress and consistent tangent dtau/dF at the trial deformation gradients
+  /// F[ids[k]] (full 3x3), written to out[ids[k]]: the implicit solver's material update.
+  virtual void response(std::span<const Index> ids, std::span<const Mat3> F,
+                        std::span<StressTangent> out) const = 0;
 
 private:
   std::string name_;
@@ -64,14 +69,24 @@ public:
       stress_out[p] = law.stress(embed_plane_strain(F[p]));
     });
   }
+  void response(std::span<const Index> ids, std::span<const Mat3> F,
+                std::span<StressTangent> out) const final {
+    const auto& law = static_cast<const Law&>(*this);
+    parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
+      const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
+      out[p] = law.response(F[p]);
+    });
+  }
 };
 
-/// Small-strain linear elasticity on the total strain eps = sym(F) - I. Exact for small
-/// displacements; not objective under large rotation (use neo_hookean or hencky there).
+/// Small-strain linear elasticity: energy W(eps), eps = sym(F) - I, P = dW/dF,
+/// sigma = P F^T / J (hyperelastic.hpp). Exact for small displacements; not objective under
+/// large rotation (use neo_hookean or hencky there); J <= 0 is an error.
 class LinearElastic final : public ElasticMaterial<LinearElastic> {
 public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
+  StressTangent response(const Mat3& F) const;
   double energy_density(const Mat3& F) const override;
 };
 
@@ -81,6 +96,7 @@ class NeoHookean final : public ElasticMaterial<NeoHookean> {
 public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
+  StressTangent response(const Mat3& F) const;
   double energy_density(const Mat3& F) const override;
 };
 
@@ -91,6 +107,7 @@ class Hencky final : public ElasticMaterial<Hencky> {
 public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
+  StressTangent response(const Mat3& F) const;
   double energy_density(const Mat3& F) const override;
 };
 

@@ -7,8 +7,11 @@
 //  * GimpShape: uGIMP (Bardenhagen & Kober 2004), the hat function averaged over a particle
 //    domain of half-width lp <= h/2 that keeps its initial size.
 #include "talus/core/types.hpp"
+#include "talus/io/case_spec.hpp"
 
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 
 namespace talus {
 
@@ -60,5 +63,18 @@ struct GimpShape {
       value(x - h * static_cast<double>(start + a), h, lp, N[a], dN[a]);
   }
 };
+
+/// Instantiates Solver<Shape> for the case's shape function: the one place where the run-time
+/// choice becomes a compile-time parameter of the hot loops.
+template <class Base, template <class> class Solver, class... Args>
+std::unique_ptr<Base> make_for_shape(ShapeFunction shape, Args&... args) {
+  switch (shape) {
+  case ShapeFunction::Linear:
+    return std::make_unique<Solver<LinearShape>>(args...);
+  case ShapeFunction::Gimp:
+    return std::make_unique<Solver<GimpShape>>(args...);
+  }
+  throw std::logic_error("unknown shape function");
+}
 
 } // namespace talus

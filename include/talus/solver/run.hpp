@@ -5,6 +5,7 @@
 #include "talus/io/case_spec.hpp"
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace talus {
@@ -25,7 +26,8 @@ struct RunResult {
   Index frames = 0;
   Index particles = 0;
   double wall_seconds = 0;
-  int exit_code = 0; ///< 0, 1 (interrupted) or 3 (numerical failure)
+  int exit_code = 0;                   ///< 0, 1 (interrupted) or 3 (numerical failure)
+  std::map<std::string, double> extra; ///< solver statistics, also written to summary.json
 };
 
 /// Checks that `dir` may receive results (absent, empty, or `force`); throws InputError.
