@@ -119,7 +119,7 @@ struct SolverSpec {
   // --- implicit analyses ---
   std::string linear_solver = "cholmod"; ///< cholmod | umfpack | klu | eigen_cg | eigen_bicgstab |
                                          ///< trilinos_cg | trilinos_gmres
-  double newton_tolerance = 1e-8; ///< max |R| <= tolerance * (largest external force scale)
+  double newton_tolerance = 1e-8;        ///< max |R| <= tolerance * (largest external force scale)
   int max_newton_iterations = 20;
 };
 
