@@ -397,11 +397,9 @@ std::string Validator::case_name(const Item& it) const {
 }
 
 AnalysisType Validator::analysis(const Item& it) const {
-  if (it.node.IsScalar() && it.node.Scalar() == "implicit_dynamic")
-    fail(it, "analysis 'implicit_dynamic' is not available yet; use 'explicit' or "
-             "'implicit_quasistatic'");
   return choice<AnalysisType>(it, {{"explicit", AnalysisType::Explicit},
-                                   {"implicit_quasistatic", AnalysisType::ImplicitQuasistatic}});
+                                   {"implicit_quasistatic", AnalysisType::ImplicitQuasistatic},
+                                   {"implicit_dynamic", AnalysisType::ImplicitDynamic}});
 }
 
 int Validator::dimension(const Item& it) const {
@@ -899,7 +897,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))
     spec.solver = solver(top["solver"]);
-  if (spec.analysis == AnalysisType::ImplicitQuasistatic && spec.time.cfl) {
+  if (spec.analysis != AnalysisType::Explicit && spec.time.cfl) {
     const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
     fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
                           "needs 'dt', its initial load step");

@@ -175,7 +175,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
   result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
 }
 
-/// Implicit quasi-static: load steps of pseudo-time, cut back (halved) when Newton fails and
+/// Implicit analyses: steps cut back (halved) when Newton fails and
 /// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
 /// residual history goes to newton.log. A failure at the minimum step ends the run after
 /// writing the last converged state as a frame.
@@ -217,7 +217,10 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       if (s.t + step_dt * (1.0 + kSliver) >= target)
         step_dt = target - s.t;
       const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
-      const NewtonReport r = solver->step(t_end / time.end_time, step_dt);
+      // Quasi-static loads ramp with the pseudo-time; dynamic loads act in full from t = 0.
+      const double load_factor =
+          scene.spec.analysis == AnalysisType::ImplicitDynamic ? 1.0 : t_end / time.end_time;
+      const NewtonReport r = solver->step(load_factor, step_dt);
       assembly += r.seconds_assembly;
       factorization += r.seconds_factorization;
       solve += r.seconds_solve;

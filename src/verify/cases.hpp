@@ -7,10 +7,12 @@
 namespace talus::verify_cases {
 
 VerificationCase vibrating_bar();
+VerificationCase vibrating_bar_implicit();
 VerificationCase colliding_discs();
 VerificationCase rigid_translation();
 VerificationCase rigid_rotation();
 VerificationCase cantilever();
+VerificationCase self_weight_column();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);

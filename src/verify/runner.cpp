@@ -41,9 +41,10 @@ Check report_only(std::string quantity, double measured, std::string note) {
 
 const std::vector<VerificationCase>& verification_cases() {
   static const std::vector<VerificationCase> cases = {
-      verify_cases::vibrating_bar(), verify_cases::colliding_discs(),
-      verify_cases::rigid_translation(), verify_cases::rigid_rotation(),
-      verify_cases::cantilever()};
+      verify_cases::vibrating_bar(),     verify_cases::vibrating_bar_implicit(),
+      verify_cases::colliding_discs(),   verify_cases::rigid_translation(),
+      verify_cases::rigid_rotation(),    verify_cases::cantilever(),
+      verify_cases::self_weight_column()};
   return cases;
 }
 
@@ -144,7 +145,7 @@ int run_verification(const VerifyOptions& options) {
     if (!selected)
       continue;
     VerificationContext ctx;
-    ctx.case_file = verification_dir() / (vc.name + ".yaml");
+    ctx.case_file = verification_dir() / ((vc.scene.empty() ? vc.name : vc.scene) + ".yaml");
     ctx.out_dir = out / vc.name;
     ctx.tier = options.tier;
     ctx.threads = options.threads;

@@ -560,7 +560,7 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {
   expect_error(
       with(kCase, "analysis: explicit", "analysis: implicit_dynamic"),
-      {"case.yaml", 2, 11, "analysis", "analysis 'implicit_dynamic' is not available yet"});
+      {"case.yaml", 48, 8, "time.cfl", "a CFL number applies to explicit analyses"});
   // The implicit analysis exists, but it steps loads by dt, not by a CFL number.
   expect_error(with(kCase, "analysis: explicit", "analysis: implicit_quasistatic"),
                {"case.yaml", 48, 8, "time.cfl", "a CFL number applies to explicit analyses"});

@@ -22,6 +22,7 @@ template <int Dim> struct Particles {
 
   // --- optional blocks (empty unless the scene needs them) -------------------------------------
   Array<Mat<Dim>> affine_velocity; ///< APIC's C_p = B_p D_p^-1 (transfer apic only)
+  Array<Vec<Dim>> acceleration;    ///< m/s^2, Newmark state (implicit_dynamic only)
 
   Index size() const { return static_cast<Index>(x.size()); }
 
@@ -41,6 +42,8 @@ template <int Dim> struct Particles {
     external_force.resize(s, Vec<Dim>::Zero());
     if (!affine_velocity.empty())
       affine_velocity.resize(s, Mat<Dim>::Zero());
+    if (!acceleration.empty())
+      acceleration.resize(s, Vec<Dim>::Zero());
   }
 };
 

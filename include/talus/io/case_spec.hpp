@@ -15,7 +15,9 @@ namespace talus {
 /// explicit: dynamic, central-difference-like MPM step under a CFL limit.
 /// implicit_quasistatic: equilibrium at each load step by Newton's method (pseudo-time t in
 /// [0, end_time] scales every load by t / end_time).
-enum class AnalysisType { Explicit, ImplicitQuasistatic };
+/// implicit_dynamic: Newmark (beta = 1/4, gamma = 1/2) on the grid, Newton at each step,
+/// loads constant in time like the explicit analysis.
+enum class AnalysisType { Explicit, ImplicitQuasistatic, ImplicitDynamic };
 enum class ShapeFunction { Linear, Gimp };
 enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries

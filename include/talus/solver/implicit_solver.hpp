@@ -1,5 +1,7 @@
 #pragma once
-// Implicit quasi-static MPM: each load step solves for the grid displacement increment du that
+// Implicit MPM, quasi-static or dynamic (Newmark, beta = 1/4, gamma = 1/2, on the grid with
+// lumped mass: R gains M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n, and K gains
+// 4 M / dt^2). Each step solves for the grid displacement increment du that
 // puts the material points in equilibrium with the loads scaled to the step's end,
 //   R(du) = f_int(du) - lambda f_ext = 0,
 // by Newton's method (KINSOL) with the consistent tangent. The increment is measured from the

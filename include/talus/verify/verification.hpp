@@ -41,6 +41,7 @@ struct VerificationCase {
   std::string name;
   std::string description;
   std::vector<std::string> tiers; ///< tiers that include the case
+  std::string scene;              ///< verification/<scene>.yaml; empty: the case's name
   std::function<std::vector<Check>(const VerificationContext&)> run;
 };
 

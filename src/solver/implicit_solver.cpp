@@ -1,8 +1,8 @@
+#include "talus/solver/implicit_solver.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/shape/shape_functions.hpp"
-#include "talus/solver/implicit_solver.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -23,13 +23,13 @@ constexpr double kImplicitTinyNodeMassFraction = 1e-10;
 
 using Clock = std::chrono::steady_clock;
 
-template <class Shape> class QuasistaticSolver final : public ImplicitSolver, NonlinearSystem {
+template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
   static constexpr int Dim = 2;
   using V = Vec<Dim>;
   using M = Mat<Dim>;
 
 public:
-  explicit QuasistaticSolver(Scene<Dim>& scene) : scene_(scene) {
+  explicit ImplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
     LinearSolverKind kind;
     if (!parse_linear_solver_kind(scene.spec.solver.linear_solver, kind))
       throw std::invalid_argument("unknown linear solver " + scene.spec.solver.linear_solver);
@@ -38,12 +38,16 @@ public:
     linear_ = make_linear_solver(options);
     const auto np = static_cast<std::size_t>(scene.particles.size());
     trial_F_.assign(np, Mat3::Identity());
+    dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
+    if (dynamic_)
+      scene.particles.acceleration.assign(np, V::Zero());
     response_.resize(np);
     for (auto& r : reactions_)
       r.setZero();
   }
 
   NewtonReport step(double lambda_end, double dt) override {
+    dt_ = dt;
     prepare_step(lambda_end);
     NewtonOptions options;
     options.residual_tolerance = scene_.spec.solver.newton_tolerance;
@@ -89,6 +93,10 @@ public:
           P.volume0[s] * scene_.materials[static_cast<std::size_t>(P.material[s])]->energy_density(
                              embed_plane_strain(P.F[s]));
       e.gravity -= P.mass[s] * scene_.spec.gravity.dot(P.x[s]);
+      if (dynamic_) {
+        e.kinetic += 0.5 * P.mass[s] * P.v[s].squaredNorm();
+        e.momentum += P.mass[s] * P.v[s];
+      }
     }
     return e;
   }
@@ -105,6 +113,9 @@ public:
       return false;
     const auto& P = scene_.particles;
     r = -external_;
+    if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
+      for (Index dof = 0; dof < dof_count_; ++dof)
+        r[dof] += dof_mass_[at(dof)] * newmark_acceleration(dof, du[dof]);
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
@@ -161,6 +172,10 @@ public:
             }
         }
     }
+    if (dynamic_)
+      for (Index dof = 0; dof < dof_count_; ++dof)
+        triplets_.emplace_back(static_cast<int>(dof), static_cast<int>(dof),
+                               4.0 * dof_mass_[at(dof)] / (dt_ * dt_));
     K_.resize(static_cast<Eigen::Index>(dof_count_), static_cast<Eigen::Index>(dof_count_));
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
     K_.makeCompressed();
@@ -181,6 +196,9 @@ public:
 
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
+  double newmark_acceleration(Index dof, double du) const {
+    return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
+  }
   Index dof_of(Index node, int a) const { return node_dof_[at(2 * node + a)]; }
 
   // Connectivity at the step's start configuration, the unknowns, and the load vector.
@@ -206,6 +224,28 @@ private:
         if (!(mask & (1u << a)))
           node_dof_[at(2 * n + a)] = dof_count_++;
     }
+    if (dynamic_) {
+      // Lumped mass and the mass-weighted projections of the particles' velocity and
+      // acceleration, per unknown.
+      dof_mass_.assign(at(dof_count_), 0.0);
+      grid_v_.assign(at(dof_count_), 0.0);
+      grid_a_.assign(at(dof_count_), 0.0);
+      for (const Index n : map_.active_nodes()) {
+        V mv = V::Zero(), ma = V::Zero();
+        map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
+          mv += w * P.mass[at(p)] * P.v[at(p)];
+          ma += w * P.mass[at(p)] * P.acceleration[at(p)];
+        });
+        for (int a = 0; a < Dim; ++a) {
+          const Index dof = dof_of(n, a);
+          if (dof < 0)
+            continue;
+          dof_mass_[at(dof)] = node_mass_[at(n)];
+          grid_v_[at(dof)] = mv[a] / node_mass_[at(n)];
+          grid_a_[at(dof)] = ma[a] / node_mass_[at(n)];
+        }
+      }
+    }
     external_.setZero(static_cast<Eigen::Index>(dof_count_));
     full_external_.assign(2 * nn, 0.0);
     const V g = scene_.spec.gravity;
@@ -222,6 +262,10 @@ private:
         }
       });
     }
+    if (dynamic_) // inertia sets the force level too: m (|v| / dt + |a|)
+      for (Index p = 0; p < P.size(); ++p)
+        force_scale_ = std::max(
+            force_scale_, P.mass[at(p)] * (P.v[at(p)].norm() / dt_ + P.acceleration[at(p)].norm()));
     if (force_scale_ == 0) {
       // No load at all: scale forces by the stiffness of a cell strained by 1e-6.
       double modulus = 0;
@@ -322,7 +366,24 @@ private:
       P.stress[s] = response_[s].kirchhoff / J;
       P.volume[s] = J * P.volume0[s];
       P.x[s] += dx;
-      P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
+      if (dynamic_) {
+        // FLIP-style increments of the Newmark grid velocity, acceleration from the grid.
+        V dv = V::Zero(), a = V::Zero();
+        map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+          for (int c = 0; c < Dim; ++c) {
+            const Index dof = dof_of(n, c);
+            if (dof < 0)
+              continue;
+            const double a_new = newmark_acceleration(dof, du[dof]);
+            a[c] += w * a_new;
+            dv[c] += w * 0.5 * dt * (grid_a_[at(dof)] + a_new);
+          }
+        });
+        P.v[s] += dv;
+        P.acceleration[s] = a;
+      } else {
+        P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
+      }
     }
     for (auto& r : reactions_)
       r.setZero();
@@ -357,12 +418,15 @@ private:
   bool pattern_changed_ = true;
   std::array<Vec2, kFaceCount> reactions_{};
   double seconds_particle_update_ = 0;
+  bool dynamic_ = false;
+  double dt_ = 1;
+  std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
 };
 
 } // namespace
 
 std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene) {
-  return make_for_shape<ImplicitSolver, QuasistaticSolver>(scene.spec.solver.shape, scene);
+  return make_for_shape<ImplicitSolver, ImplicitSolverImpl>(scene.spec.solver.shape, scene);
 }
 
 } // namespace talus
