@@ -1,9 +1,10 @@
-// talus: the command-line front end. Sub-commands: run, verify, info.
+// talus: the command-line front end. Sub-commands: run, verify, bench, info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/solver/run.hpp"
+#include "talus/verify/bench.hpp"
 #include "talus/verify/verification.hpp"
 
 #include <CLI/CLI.hpp>
@@ -22,7 +23,8 @@ int print_info() {
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
   fmt::print("dimension       2 (plane strain)\n");
-  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC or APIC), implicit_quasistatic\n");
+  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC or APIC), implicit_quasistatic, "
+             "implicit_dynamic\n");
   fmt::print("shape functions linear, gimp (uGIMP)\n");
   fmt::print("materials       linear_elastic, neo_hookean, hencky\n");
   fmt::print("OpenMP threads  {} available\n", omp_get_max_threads());
@@ -77,6 +79,23 @@ int main(int argc, char** argv) {
   verify->add_option("--threads", verify_options.threads, "OpenMP threads")
       ->check(CLI::NonNegativeNumber);
 
+  auto* bench = app.add_subcommand(
+      "bench", "Work-precision sweep of a verification case: writes bench.csv and bench.png");
+  BenchOptions bench_options;
+  bench
+      ->add_option("--case", bench_options.case_name,
+                   "Verification case: " + fmt::format("{}", fmt::join(bench_cases(), ", ")))
+      ->required();
+  bench->add_option("--out", bench_options.out_dir,
+                    "Output directory (default results/bench/<case>)");
+  bench->add_option("--repeats", bench_options.repeats,
+                    "Runs per configuration for the median (default 3, at least 3)");
+  bench->add_flag("--quick", bench_options.quick, "Leave out the finest resolution");
+  bench
+      ->add_option("--threads", bench_options.threads,
+                   "OpenMP threads of each run (default 1; 0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
   auto* info = app.add_subcommand("info", "Version, build options and available backends");
 
   try {
@@ -91,6 +110,8 @@ int main(int argc, char** argv) {
       return run_command(case_file, overrides, out_dir, force, threads);
     if (*verify)
       return run_verification(verify_options);
+    if (*bench)
+      return run_bench(bench_options);
     if (*info)
       return print_info();
   } catch (const InputError& e) {

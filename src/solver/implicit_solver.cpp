@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
+#include <limits>
 
 namespace talus {
 
@@ -21,6 +22,9 @@ namespace {
 // with a clear message instead of returning a stiffened answer.
 constexpr double kImplicitTinyNodeMassFraction = 1e-10;
 
+// Newton's tolerance is never set below this multiple of the stress round-off force.
+constexpr double kRoundOffFloor = 100.0;
+
 using Clock = std::chrono::steady_clock;
 
 template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
@@ -30,6 +34,10 @@ template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, N
 
 public:
   explicit ImplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
+    double modulus = 0;
+    for (const auto& m : scene.materials)
+      modulus = std::max(modulus, m->lame().p_wave_modulus());
+    round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
     LinearSolverKind kind;
     if (!parse_linear_solver_kind(scene.spec.solver.linear_solver, kind))
       throw std::invalid_argument("unknown linear solver " + scene.spec.solver.linear_solver);
@@ -50,8 +58,12 @@ public:
     dt_ = dt;
     prepare_step(lambda_end);
     NewtonOptions options;
-    options.residual_tolerance = scene_.spec.solver.newton_tolerance;
     options.residual_scale = force_scale_;
+    // The stress carries an absolute round-off of about eps * E (the strain comes from F - I),
+    // so no nodal force is known better than ~eps * E * h. A tolerance below 100 times that
+    // floor would ask for digits that do not exist (stiff material, light load).
+    options.residual_tolerance = std::max(scene_.spec.solver.newton_tolerance,
+                                          kRoundOffFloor * round_off_force_ / force_scale_);
     options.step_scale = scene_.grid.cell_size();
     options.max_iterations = scene_.spec.solver.max_newton_iterations;
     Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dof_count_));
@@ -70,6 +82,7 @@ public:
         options.line_search = true;
         du.setZero();
         NewtonReport retry = solve_newton(*this, *linear_, du, options);
+        retry.abandoned_history = report.residual_history;
         retry.iterations += report.iterations;
         retry.linear_solves += report.linear_solves;
         retry.factorizations += report.factorizations;
@@ -419,6 +432,7 @@ private:
   std::array<Vec2, kFaceCount> reactions_{};
   double seconds_particle_update_ = 0;
   bool dynamic_ = false;
+  double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
 };

@@ -228,6 +228,12 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       linear_solves += r.linear_solves;
       std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1), t_end,
                    step_dt, r.converged ? "yes" : "no", r.iterations);
+      if (!r.abandoned_history.empty()) {
+        std::fprintf(log, " [plain Newton:");
+        for (double v : r.abandoned_history)
+          std::fprintf(log, " %.3e", v);
+        std::fprintf(log, "; line search:]");
+      }
       for (double v : r.residual_history)
         std::fprintf(log, " %.3e", v);
       std::fprintf(log, "%s%s\n", r.converged ? "" : "  ", r.message.c_str());

@@ -10,6 +10,7 @@
 //  * error at the finest fast-tier grid (64 cells) <= 1e-3. A first-order defect, such as
 //    reading the half-step velocity at the full step (omega dt / 2 ~ 3.5e-3), fails it.
 #include "cases.hpp"
+#include "references.hpp"
 
 #include "talus/io/csv.hpp"
 
@@ -20,28 +21,9 @@
 
 namespace talus::verify_cases {
 
-namespace {
-
-constexpr double kLength = 25.0, kYoung = 100.0, kDensity = 1.0, kV0 = 0.01;
-
-double rms_error(const CsvTable& series, double total_mass) {
-  const double b1 = std::numbers::pi / (2.0 * kLength);
-  const double w1 = b1 * std::sqrt(kYoung / kDensity);
-  const double amplitude = kV0 / (b1 * kLength);
-  const auto& t = series.column("time");
-  const auto& dt = series.column("dt");
-  const auto& px = series.column("momentum_x");
-  double sum = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    // Explicit MPM is a leapfrog: the velocity after a step of length dt belongs to the
-    // half step t - dt/2 (the initial stress is zero, so the start needs no half-step shift).
-    const double e = px[i] / total_mass - amplitude * std::cos(w1 * (t[i] - 0.5 * dt[i]));
-    sum += e * e;
-  }
-  return std::sqrt(sum / static_cast<double>(t.size())) / amplitude;
-}
-
-} // namespace
+using references::kBarDensity;
+using references::kBarLength;
+using references::kBarYoung;
 
 VerificationCase vibrating_bar() {
   VerificationCase vc;
@@ -56,16 +38,13 @@ VerificationCase vibrating_bar() {
       cells.push_back(128);
     std::vector<double> errors;
     for (const int n : cells) {
-      const double h = kLength / n;
-      const std::vector<std::string> overrides = {
-          fmt::format("grid.cell_size={:.17g}", h),
-          fmt::format("grid.extent=[{:.17g}, {:.17g}]", kLength + 2 * h, h),
-          fmt::format("bodies.bar.max=[{:.17g}, {:.17g}]", kLength, h)};
-      const CaseSpec spec = load_verification_case(ctx, overrides);
+      const double h = kBarLength / n;
+      const CaseSpec spec = load_verification_case(ctx, references::vibrating_bar_overrides(n));
       const auto dir = ctx.out_dir / fmt::format("cells{}", n);
       run_quiet(spec, dir, ctx.threads);
-      const double total_mass = kDensity * kLength * h;
-      errors.push_back(rms_error(read_csv(dir / "timeseries.csv"), total_mass));
+      const double total_mass = kBarDensity * kBarLength * h;
+      errors.push_back(
+          references::vibrating_bar_rms_error(read_csv(dir / "timeseries.csv"), total_mass));
     }
     std::vector<Check> checks;
     for (std::size_t i = 0; i < cells.size(); ++i)
@@ -101,14 +80,13 @@ VerificationCase vibrating_bar_implicit() {
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
     const int n = 64;
-    const double h = kLength / n;
-    const double c = std::sqrt(kYoung / kDensity);
+    const double h = kBarLength / n;
+    const double c = std::sqrt(kBarYoung / kBarDensity);
     const double dt = 10.0 * h / c;
-    const CaseSpec spec = load_verification_case(
-        ctx, {"analysis=implicit_dynamic", fmt::format("time.dt={:.17g}", dt),
-              fmt::format("grid.cell_size={:.17g}", h),
-              fmt::format("grid.extent=[{:.17g}, {:.17g}]", kLength + 2 * h, h),
-              fmt::format("bodies.bar.max=[{:.17g}, {:.17g}]", kLength, h)});
+    auto overrides = references::vibrating_bar_overrides(n);
+    overrides.push_back("analysis=implicit_dynamic");
+    overrides.push_back(fmt::format("time.dt={:.17g}", dt));
+    const CaseSpec spec = load_verification_case(ctx, overrides);
     const auto dir = ctx.out_dir / "run";
     run_quiet(spec, dir, ctx.threads);
     const CsvTable series = read_csv(dir / "timeseries.csv");
@@ -123,7 +101,7 @@ VerificationCase vibrating_bar_implicit() {
       throw std::runtime_error("fewer than three zero crossings of v_cm");
     const double period =
         2.0 * (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
-    const double exact = 4.0 * kLength / c;
+    const double exact = 4.0 * kBarLength / c;
     double peak = energy.front();
     for (double e : energy)
       peak = std::max(peak, e);

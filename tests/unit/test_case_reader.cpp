@@ -558,15 +558,15 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
 }
 
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {
-  expect_error(
-      with(kCase, "analysis: explicit", "analysis: implicit_dynamic"),
-      {"case.yaml", 48, 8, "time.cfl", "a CFL number applies to explicit analyses"});
+  expect_error(with(kCase, "analysis: explicit", "analysis: implicit_dynamic"),
+               {"case.yaml", 48, 8, "time.cfl", "a CFL number applies to explicit analyses"});
   // The implicit analysis exists, but it steps loads by dt, not by a CFL number.
   expect_error(with(kCase, "analysis: explicit", "analysis: implicit_quasistatic"),
                {"case.yaml", 48, 8, "time.cfl", "a CFL number applies to explicit analyses"});
-  expect_error(with(kCase, "analysis: explicit", "analysis: static"),
-               {"case.yaml", 2, 11, "analysis",
-                "unknown value 'static' (allowed: explicit, implicit_quasistatic)"});
+  expect_error(
+      with(kCase, "analysis: explicit", "analysis: static"),
+      {"case.yaml", 2, 11, "analysis",
+       "unknown value 'static' (allowed: explicit, implicit_quasistatic, implicit_dynamic)"});
   expect_error(with(kCase, "dimension: 2", "dimension: 3"),
                {"case.yaml", 3, 12, "dimension", "only 2 (plane strain) is supported (got 3)"});
 }

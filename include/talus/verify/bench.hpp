@@ -1,0 +1,36 @@
+#pragma once
+// `talus bench`: the work-precision runner. For a verification case it sweeps resolution x shape
+// function x linear backend, repeats every configuration, and writes bench.csv (error against
+// the case's analytical reference, median/min wall seconds of run_case, Newton iterations, peak
+// resident memory) plus bench.png (log-log error against median seconds, scripts/plot_bench.py).
+//
+// Every run is a child process `talus run <verification/case.yaml> --set ...` so that its peak
+// resident set size (ru_maxrss from wait4) belongs to that run alone; the wall time is the
+// child's own run_case time (summary.json "wall_seconds"), so process start-up is not counted.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+struct BenchOptions {
+  std::string case_name;         ///< "cantilever" or "vibrating_bar"
+  std::filesystem::path out_dir; ///< empty: results/bench/<case>
+  int repeats = 3;               ///< runs per configuration; at least 3
+  bool quick = false;            ///< drop the finest resolution
+  /// OpenMP threads of each run; 0 keeps the OpenMP default (all cores). The default 1 keeps
+  /// timings comparable on a shared machine: with more threads than idle cores, OpenMP
+  /// barriers wait on descheduled threads and small runs slow down by an order of magnitude.
+  int threads = 1;
+};
+
+/// The cases `talus bench --case` accepts.
+std::vector<std::string> bench_cases();
+
+/// Runs the sweep, prints the table, writes bench.csv and bench.png; returns the exit code
+/// (0 when the sweep ran, even if single configurations failed: they are rows with status
+/// "failed"). Throws InputError for an unknown case or repeats < 3, std::runtime_error when the
+/// plot script fails.
+int run_bench(const BenchOptions& options);
+
+} // namespace talus

@@ -1,0 +1,357 @@
+// `talus bench`: work-precision sweeps over verification cases (see
+// include/talus/verify/bench.hpp).
+//
+// Measurement choices:
+//  * Each run is a child process, `talus run verification/<case>.yaml --out <dir> --force
+//    --set ...` (the binary re-executes its own image through /proc/self/exe). The parent waits
+//    with wait4 and takes ru_maxrss, the child's own peak resident set, so the memory column is per
+//    run and not the parent's monotone high-water mark. It includes the binary's fixed
+//    footprint (shared libraries: Trilinos, MPI, HDF5, ...), which the table header reports as
+//    the baseline measured on `talus info`.
+//  * The time of a run is the child's run_case wall time (summary.json "wall_seconds": scene
+//    build, solve and result writing), not process start-up. Median and minimum over repeats.
+//  * The error is computed from the last repeat's results with the same formulas as the
+//    verification cases (the runs are deterministic for a fixed thread count).
+//  * Errors come from src/verify/references.hpp, shared with the verification cases.
+#include "talus/verify/bench.hpp"
+
+#include "references.hpp"
+
+#include "talus/core/errors.hpp"
+#include "talus/io/csv.hpp"
+#include "talus/io/results.hpp"
+#include "talus/linalg/linear_solver.hpp"
+#include "talus/verify/verification.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <spawn.h>
+#include <sstream>
+#include <stdexcept>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+extern char** environ;
+
+namespace talus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// --- errors, from the shared references (the same formulas as the verification cases) ---
+
+double cantilever_error(const fs::path& run_dir) {
+  double x = 0;
+  const Vec2 u = references::tip_column_displacement(ResultsReader(run_dir / "run.h5"), &x);
+  return std::abs(u.y() / references::cantilever_deflection(x, 1.0) - 1.0);
+}
+
+double vibrating_bar_error(const fs::path& run_dir, int n) {
+  const double h = references::kBarLength / n;
+  return references::vibrating_bar_rms_error(read_csv(run_dir / "timeseries.csv"),
+                                             references::kBarDensity * references::kBarLength * h);
+}
+
+// --- the sweep --------------------------------------------------------------------------------
+
+struct Config {
+  std::string shape;
+  std::string backend; ///< linear solver, or "explicit"
+  int cells = 0;       ///< through the depth (cantilever) or along the bar (vibrating_bar)
+  std::vector<std::string> overrides;
+};
+
+struct Row {
+  Config config;
+  double particles = NAN;
+  double unknowns = NAN;
+  double error = NAN;
+  double median_seconds = NAN;
+  double min_seconds = NAN;
+  int repeats = 0; ///< completed repeats
+  double newton_iterations = NAN;
+  double peak_rss_mb = NAN;
+  std::string status;
+  std::string message;
+};
+
+std::vector<Config> sweep(const std::string& name, bool quick) {
+  std::vector<Config> configs;
+  const std::vector<std::string> shapes = {"linear", "gimp"};
+  if (name == "cantilever") {
+    std::vector<int> cells = {2, 4, 8, 16};
+    if (quick)
+      cells.pop_back();
+    for (const auto& shape : shapes)
+      for (const auto& backend : available_linear_solvers())
+        for (const int n : cells)
+          configs.push_back({shape,
+                             backend,
+                             n,
+                             {fmt::format("grid.cell_size={:.17g}", references::kBeamDepth / n),
+                              "solver.shape=" + shape, "solver.linear_solver=" + backend}});
+  } else {
+    std::vector<int> cells = {16, 32, 64, 128};
+    if (quick)
+      cells.pop_back();
+    for (const auto& shape : shapes)
+      for (const int n : cells) {
+        auto overrides = references::vibrating_bar_overrides(n);
+        overrides.push_back("solver.shape=" + shape);
+        configs.push_back({shape, "explicit", n, overrides});
+      }
+  }
+  return configs;
+}
+
+struct ChildResult {
+  int exit_code = 0;
+  double max_rss_mb = 0;
+};
+
+/// Runs `program args...` with stdout and stderr into `log`; returns its exit code (128 +
+/// signal when killed) and its peak resident set (ru_maxrss, KiB on Linux).
+ChildResult spawn_and_wait(const fs::path& program, const std::vector<std::string>& args,
+                           const fs::path& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::vector<std::string> argv_text = {program.string()};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_text)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0)
+    throw std::runtime_error(
+        fmt::format("cannot start '{}': {}", program.string(), std::strerror(rc)));
+  int status = 0;
+  struct rusage usage {};
+  while (wait4(pid, &status, 0, &usage) < 0)
+    if (errno != EINTR)
+      throw std::runtime_error(fmt::format("wait4 failed: {}", std::strerror(errno)));
+  ChildResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.max_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  return r;
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// The child's error message: its last "talus: ..." line, else its last non-empty line.
+std::string failure_message(const fs::path& log, int exit_code) {
+  std::istringstream in(read_text(log));
+  std::string line, last, last_talus;
+  while (std::getline(in, line)) {
+    if (line.empty())
+      continue;
+    last = line;
+    if (line.rfind("talus: ", 0) == 0)
+      last_talus = line.substr(7);
+  }
+  const std::string text = !last_talus.empty() ? last_talus : last;
+  return fmt::format("exit {}{}{}", exit_code, text.empty() ? "" : ": ", text);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double json_number(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
+std::string csv_number(double v) {
+  return std::isfinite(v) ? fmt::format("{:.6g}", v) : "";
+}
+
+std::string csv_text(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos)
+    return s;
+  std::string q = "\"";
+  for (char c : s)
+    q += (c == '"') ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return q + "\"";
+}
+
+std::string cell(double v, const char* format) {
+  return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : "-";
+}
+
+Row run_configuration(const std::string& case_name, const Config& c, const BenchOptions& options,
+                      const fs::path& exe, const fs::path& case_file, const fs::path& runs_dir) {
+  Row row;
+  row.config = c;
+  const fs::path dir = runs_dir / fmt::format("{}_{}_{}cells", c.shape, c.backend, c.cells);
+  fs::create_directories(dir);
+  const fs::path log = dir / "talus.log";
+  std::vector<std::string> args = {"run", case_file.string(), "--out", dir.string(), "--force"};
+  args.push_back("--threads");
+  args.push_back(std::to_string(options.threads)); // 0: the OpenMP default
+  for (const auto& o : c.overrides) {
+    args.push_back("--set");
+    args.push_back(o);
+  }
+  std::vector<double> seconds;
+  double peak = 0;
+  nlohmann::json summary;
+  try {
+    for (int k = 0; k < options.repeats; ++k) {
+      fs::remove(dir / "summary.json");
+      const ChildResult r = spawn_and_wait(exe, args, log);
+      peak = std::max(peak, r.max_rss_mb);
+      if (r.exit_code != 0) {
+        row.status = "failed";
+        row.message = failure_message(log, r.exit_code);
+        break;
+      }
+      summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+      seconds.push_back(json_number(summary, "wall_seconds"));
+    }
+    if (row.status.empty()) {
+      row.error =
+          case_name == "cantilever" ? cantilever_error(dir) : vibrating_bar_error(dir, c.cells);
+      row.status = std::isfinite(row.error) ? "ok" : "failed";
+      if (!std::isfinite(row.error))
+        row.message = "error is not finite";
+    }
+  } catch (const std::exception& e) {
+    row.status = "failed";
+    row.message = e.what();
+  }
+  row.repeats = static_cast<int>(seconds.size());
+  if (!seconds.empty()) {
+    row.median_seconds = median(seconds);
+    row.min_seconds = *std::min_element(seconds.begin(), seconds.end());
+  }
+  if (peak > 0)
+    row.peak_rss_mb = peak;
+  if (!summary.is_null()) {
+    row.particles = json_number(summary, "particles");
+    row.newton_iterations = json_number(summary, "newton_iterations");
+    // Implicit: equations of the last Newton system; explicit: 2 velocity components per grid
+    // node active at the last step.
+    row.unknowns = c.backend == "explicit" ? 2.0 * json_number(summary, "active_nodes_last_step")
+                                           : json_number(summary, "unknowns_last_step");
+  }
+  return row;
+}
+
+void write_csv(const fs::path& file, const std::string& case_name, const std::vector<Row>& rows) {
+  std::ofstream out(file);
+  if (!out)
+    throw std::runtime_error("cannot create " + file.string());
+  out << "case,shape,backend,cells,particles,unknowns,error,median_seconds,min_seconds,repeats,"
+         "newton_iterations,peak_rss_mb,status,message\n";
+  for (const auto& r : rows)
+    out << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", case_name, r.config.shape,
+                       r.config.backend, r.config.cells, csv_number(r.particles),
+                       csv_number(r.unknowns), csv_number(r.error), csv_number(r.median_seconds),
+                       csv_number(r.min_seconds), r.repeats, csv_number(r.newton_iterations),
+                       csv_number(r.peak_rss_mb), r.status, csv_text(r.message));
+}
+
+void print_table(const std::string& case_name, const std::vector<Row>& rows, double baseline_mb,
+                 int repeats, int threads) {
+  fmt::print("work-precision: {} ({} repeats per configuration, {} OpenMP thread(s); seconds are "
+             "run_case wall time; peak RSS per run, baseline of the binary {:.0f} MB)\n",
+             case_name, repeats, threads > 0 ? std::to_string(threads) : "default", baseline_mb);
+  fmt::print("{:<7} {:<15} {:>5} {:>9} {:>9} {:>10} {:>10} {:>10} {:>6} {:>8}  {}\n", "shape",
+             "backend", "cells", "particles", "unknowns", "error", "median s", "min s", "newton",
+             "RSS MB", "status");
+  fmt::print("{}\n", std::string(107, '-'));
+  for (const auto& r : rows)
+    fmt::print("{:<7} {:<15} {:>5} {:>9} {:>9} {:>10} {:>10} {:>10} {:>6} {:>8}  {}{}\n",
+               r.config.shape, r.config.backend, r.config.cells, cell(r.particles, "{:.0f}"),
+               cell(r.unknowns, "{:.0f}"), cell(r.error, "{:.3e}"),
+               cell(r.median_seconds, "{:.4f}"), cell(r.min_seconds, "{:.4f}"),
+               cell(r.newton_iterations, "{:.0f}"), cell(r.peak_rss_mb, "{:.1f}"), r.status,
+               r.message.empty() ? "" : " (" + r.message + ")");
+}
+
+} // namespace
+
+std::vector<std::string> bench_cases() {
+  return {"cantilever", "vibrating_bar"};
+}
+
+int run_bench(const BenchOptions& options) {
+  const auto cases = bench_cases();
+  if (std::find(cases.begin(), cases.end(), options.case_name) == cases.end())
+    throw InputError({"--case", 0, 0, ""},
+                     fmt::format("no work-precision benchmark for case '{}' (supported: {})",
+                                 options.case_name, fmt::join(cases, ", ")));
+  if (options.repeats < 3)
+    throw InputError(
+        {"--repeats", 0, 0, ""},
+        fmt::format("at least 3 repeats are needed for a median (got {})", options.repeats));
+  const fs::path data_dir = verification_dir();
+  const fs::path case_file = data_dir / (options.case_name + ".yaml");
+  const fs::path plot_script = data_dir.parent_path() / "scripts" / "plot_bench.py";
+  if (!fs::exists(case_file))
+    throw std::runtime_error("verification scene not found: " + case_file.string());
+  if (!fs::exists(plot_script))
+    throw std::runtime_error("plot script not found: " + plot_script.string());
+  // The children execute this very binary image (via /proc/self/exe, so a rebuild of the file
+  // during a sweep does not mix binaries).
+  const fs::path exe = "/proc/self/exe";
+  const fs::path out =
+      options.out_dir.empty() ? fs::path("results") / "bench" / options.case_name : options.out_dir;
+  const fs::path runs = out / "runs";
+  fs::create_directories(runs);
+
+  // Fixed footprint of the binary (libraries, no scene): the floor under every RSS figure.
+  const double baseline_mb = spawn_and_wait(exe, {"info"}, runs / "baseline.log").max_rss_mb;
+
+  const auto configs = sweep(options.case_name, options.quick);
+  std::vector<Row> rows;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const Config& c = configs[i];
+    fmt::print(stderr, "bench [{}/{}] {} {} {} {} cells ... ", i + 1, configs.size(),
+               options.case_name, c.shape, c.backend, c.cells);
+    std::fflush(stderr);
+    rows.push_back(run_configuration(options.case_name, c, options, exe, case_file, runs));
+    const Row& r = rows.back();
+    if (r.status == "ok")
+      fmt::print(stderr, "error {:.3e}, median {:.4f} s, {} MB\n", r.error, r.median_seconds,
+                 cell(r.peak_rss_mb, "{:.0f}"));
+    else
+      fmt::print(stderr, "FAILED: {}\n", r.message);
+  }
+
+  const fs::path csv = out / "bench.csv";
+  write_csv(csv, options.case_name, rows);
+  print_table(options.case_name, rows, baseline_mb, options.repeats, options.threads);
+
+  const fs::path png = out / "bench.png";
+  const fs::path plot_log = out / "plot.log";
+  const ChildResult plot = spawn_and_wait(
+      "/usr/bin/python3", {plot_script.string(), csv.string(), png.string()}, plot_log);
+  if (plot.exit_code != 0)
+    throw std::runtime_error(fmt::format("{} failed (exit {}):\n{}", plot_script.string(),
+                                         plot.exit_code, read_text(plot_log)));
+  fmt::print("\nwrote {} and {}\n", csv.string(), png.string());
+  return kExitOk;
+}
+
+} // namespace talus
