@@ -21,16 +21,6 @@
 namespace talus {
 namespace {
 
-bool same_pattern(const SparseMatrix& a, const SparseMatrix& b) {
-  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) {
-    return false;
-  }
-  const auto n = static_cast<std::size_t>(a.outerSize()) + 1;
-  const auto nnz = static_cast<std::size_t>(a.nonZeros());
-  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
-}
-
 // CG reads only the lower triangle (A holds both): Eigen's full-matrix (Lower|Upper) product goes
 // through its OpenMP path, measured 15x slower than this serial one on a loaded 2-core machine.
 // Natural ordering for the incomplete Cholesky factor: AMD, Eigen's default, costs ~1.7x more CG
@@ -75,7 +65,7 @@ public:
     factorized_ = false;
     SparseMatrix copy = A;
     copy.makeCompressed();
-    if (!same_pattern(copy, A_)) {
+    if (!same_sparsity_pattern(copy, A_)) {
       throw std::invalid_argument(name_ +
                                   ": factorize() with a sparsity pattern that differs from the "
                                   "one given to analyze()");

@@ -20,16 +20,6 @@
 namespace talus {
 namespace {
 
-bool same_pattern(const SparseMatrix& a, const SparseMatrix& b) {
-  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) {
-    return false;
-  }
-  const auto n = static_cast<std::size_t>(a.outerSize()) + 1;
-  const auto nnz = static_cast<std::size_t>(a.nonZeros());
-  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
-}
-
 /// Common bookkeeping: the compressed copy of A, call-order and pattern checks, true residual.
 class DirectSolver : public LinearSolver {
 public:
@@ -54,7 +44,7 @@ protected:
     factorized_ = false;
     SparseMatrix copy = A;
     copy.makeCompressed();
-    if (!same_pattern(copy, A_)) {
+    if (!same_sparsity_pattern(copy, A_)) {
       throw std::invalid_argument(name() +
                                   ": factorize() with a sparsity pattern that differs from the "
                                   "one given to analyze()");

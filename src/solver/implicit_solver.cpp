@@ -192,16 +192,9 @@ public:
     K_.resize(static_cast<Eigen::Index>(dof_count_), static_cast<Eigen::Index>(dof_count_));
     K_.setFromTriplets(triplets_.begin(), triplets_.end());
     K_.makeCompressed();
-    const bool same =
-        K_.nonZeros() == static_cast<Eigen::Index>(pattern_inner_.size()) &&
-        std::equal(pattern_inner_.begin(), pattern_inner_.end(), K_.innerIndexPtr()) &&
-        std::equal(pattern_outer_.begin(), pattern_outer_.end(), K_.outerIndexPtr()) &&
-        static_cast<Eigen::Index>(pattern_outer_.size()) == K_.outerSize() + 1;
-    pattern_changed_ = !same;
-    if (!same) {
-      pattern_inner_.assign(K_.innerIndexPtr(), K_.innerIndexPtr() + K_.nonZeros());
-      pattern_outer_.assign(K_.outerIndexPtr(), K_.outerIndexPtr() + K_.outerSize() + 1);
-    }
+    pattern_changed_ = !same_sparsity_pattern(K_, previous_pattern_);
+    if (pattern_changed_)
+      previous_pattern_ = K_;
     return K_;
   }
 
@@ -427,7 +420,7 @@ private:
   Eigen::VectorXd state_du_;
   std::vector<Eigen::Triplet<double>> triplets_;
   SparseMatrix K_;
-  std::vector<int> pattern_inner_, pattern_outer_;
+  SparseMatrix previous_pattern_; ///< the last tangent whose pattern was analysed
   bool pattern_changed_ = true;
   std::array<Vec2, kFaceCount> reactions_{};
   double seconds_particle_update_ = 0;

@@ -4,6 +4,7 @@
 // analyze() and reused by factorize() as long as the sparsity pattern does not change.
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,13 +14,13 @@ namespace talus {
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 enum class LinearSolverKind {
-  Cholmod,        ///< SuiteSparse CHOLMOD, sparse Cholesky (symmetric positive definite)
-  Umfpack,        ///< SuiteSparse UMFPACK, sparse LU (general)
-  Klu,            ///< SuiteSparse KLU, sparse LU for circuit-like/FE matrices (general)
-  EigenCg,        ///< Eigen conjugate gradients, incomplete-Cholesky preconditioner (SPD)
-  EigenBicgstab,  ///< Eigen BiCGSTAB, incomplete-LU (ILUT) preconditioner (general)
-  TrilinosCg,     ///< Trilinos Belos CG with a MueLu (default) or Ifpack2 preconditioner (SPD)
-  TrilinosGmres,  ///< Trilinos Belos GMRES with a MueLu or Ifpack2 preconditioner (general)
+  Cholmod,       ///< SuiteSparse CHOLMOD, sparse Cholesky (symmetric positive definite)
+  Umfpack,       ///< SuiteSparse UMFPACK, sparse LU (general)
+  Klu,           ///< SuiteSparse KLU, sparse LU for circuit-like/FE matrices (general)
+  EigenCg,       ///< Eigen conjugate gradients, incomplete-Cholesky preconditioner (SPD)
+  EigenBicgstab, ///< Eigen BiCGSTAB, incomplete-LU (ILUT) preconditioner (general)
+  TrilinosCg,    ///< Trilinos Belos CG with a MueLu (default) or Ifpack2 preconditioner (SPD)
+  TrilinosGmres, ///< Trilinos Belos GMRES with a MueLu or Ifpack2 preconditioner (general)
 };
 
 struct LinearSolverOptions {
@@ -30,7 +31,7 @@ struct LinearSolverOptions {
 };
 
 struct LinearSolveStats {
-  int iterations = 0;          ///< 1 for direct solvers
+  int iterations = 0;           ///< 1 for direct solvers
   double relative_residual = 0; ///< ||b - A x|| / ||b|| measured after the solve
 };
 
@@ -49,6 +50,19 @@ public:
   /// does not reach its tolerance.
   virtual LinearSolveStats solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
 };
+
+/// True when two compressed sparse matrices (any Eigen storage order) have the same size and
+/// sparsity pattern: the test for reusing a symbolic analysis.
+template <class SparseA, class SparseB>
+bool same_sparsity_pattern(const SparseA& a, const SparseB& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros() ||
+      a.outerSize() != b.outerSize())
+    return false;
+  const auto n = static_cast<std::size_t>(a.outerSize()) + 1;
+  const auto nnz = static_cast<std::size_t>(a.nonZeros());
+  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
+}
 
 /// Throws std::invalid_argument for a kind not built into this binary.
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& options);

@@ -70,16 +70,6 @@ void ensure_tpetra_initialized() {
 
 enum class Precond { MueLu, Ifpack2 };
 
-bool same_pattern(const RowMajorMatrix& a, const RowMajorMatrix& b) {
-  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) {
-    return false;
-  }
-  const auto n = static_cast<std::size_t>(a.outerSize()) + 1;
-  const auto nnz = static_cast<std::size_t>(a.nonZeros());
-  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
-}
-
 class TrilinosSolver final : public LinearSolver {
 public:
   TrilinosSolver(bool cg, Precond precond, double tolerance, int max_iterations)
@@ -150,7 +140,7 @@ public:
     factorized_ = false;
     RowMajorMatrix rows = A;
     rows.makeCompressed();
-    if (!same_pattern(rows, rows_)) {
+    if (!same_sparsity_pattern(rows, rows_)) {
       throw std::invalid_argument(name() +
                                   ": factorize() with a sparsity pattern that differs from the "
                                   "one given to analyze()");
