@@ -181,7 +181,7 @@ void constrain_faces(Scene<2>& scene) {
   const auto& g = scene.grid;
   const auto& bc = scene.spec.boundaries;
   scene.constrained.assign(static_cast<std::size_t>(g.node_count()), 0);
-  scene.node_face.assign(static_cast<std::size_t>(g.node_count()), -1);
+  scene.component_face.assign(2 * static_cast<std::size_t>(g.node_count()), -1);
   auto mask_of = [](FaceCondition c, int normal_axis) -> std::uint8_t {
     switch (c) {
     case FaceCondition::Free:
@@ -203,9 +203,13 @@ void constrain_faces(Scene<2>& scene) {
       const bool on_face = upper ? ijk[axis] >= g.cells(axis) : ijk[axis] <= 0;
       if (!on_face || conds[face] == FaceCondition::Free)
         continue;
-      scene.constrained[static_cast<std::size_t>(id)] |= mask_of(conds[face], axis);
-      if (scene.node_face[static_cast<std::size_t>(id)] < 0)
-        scene.node_face[static_cast<std::size_t>(id)] = static_cast<std::int8_t>(face);
+      const std::uint8_t mask = mask_of(conds[face], axis);
+      scene.constrained[static_cast<std::size_t>(id)] |= mask;
+      for (int d = 0; d < 2; ++d) {
+        auto& owner = scene.component_face[2 * static_cast<std::size_t>(id) + d];
+        if ((mask & (1u << d)) && (owner < 0 || d == axis))
+          owner = static_cast<std::int8_t>(face);
+      }
     }
   }
 }
@@ -240,6 +244,19 @@ Scene<2> build_scene(const CaseSpec& spec) {
   apply_tractions(scene);
   constrain_faces(scene);
 
+  scene.node_prescribed.assign(static_cast<std::size_t>(scene.grid.node_count()), -1);
+  const double tol = 1e-9 * scene.grid.cell_size();
+  for (Index id = 0; id < scene.grid.node_count(); ++id) {
+    const Vec2 x = scene.grid.node_position(scene.grid.node_ijk(id));
+    for (std::size_t r = 0; r < spec.prescribed.size(); ++r) {
+      const PrescribedSpec& box = spec.prescribed[r];
+      if ((x.array() >= box.min.array() - tol).all() &&
+          (x.array() <= box.max.array() + tol).all()) {
+        scene.node_prescribed[static_cast<std::size_t>(id)] = static_cast<std::int32_t>(r);
+        break;
+      }
+    }
+  }
   for (const ProbeSpec& probe : spec.probes) {
     Index p = -1;
     if (probe.particle) {

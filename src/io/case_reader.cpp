@@ -320,6 +320,7 @@ private:
   BoundarySpec boundaries(const Item& it) const;
   std::vector<PointLoadSpec> point_loads(const Item& it) const;
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
+  std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;
   TimeSpec time(const Item& it) const;
   OutputSpec output(const Item& it) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
@@ -727,6 +728,46 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
   return out;
 }
 
+std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec& spec) const {
+  std::vector<PrescribedSpec> out;
+  const Vec2 lo = spec.grid.origin, hi = spec.grid.origin + spec.grid.extent;
+  const double tol = 1e-9 * spec.grid.cell_size;
+  for (const Item& item : list(it)) {
+    const Map m(*this, item, {"name", "min", "max", "displacement"});
+    PrescribedSpec p;
+    p.where = locate(m.self());
+    const Item name_item = m.required("name");
+    p.name = name(name_item);
+    for (const auto& other : out)
+      if (other.name == p.name)
+        fail(name_item, "duplicate name '" + p.name + "'");
+    p.min = vec2(m.required("min"));
+    const Item max_item = m.required("max");
+    p.max = vec2(max_item);
+    if (!(p.max.x() >= p.min.x() && p.max.y() >= p.min.y()))
+      fail(max_item, "max must not be below min in either direction");
+    for (const auto& [key, corner] : {std::pair{"min", p.min}, std::pair{"max", p.max}})
+      if ((corner.array() < lo.array() - tol).any() || (corner.array() > hi.array() + tol).any())
+        fail(m[key], std::string(key) + " lies outside the grid");
+    const Item d = m.required("displacement");
+    if (!d.node.IsSequence() || d.node.size() != 2)
+      fail(d, "expected a 2-element list [ux, uy]; write ~ (null) for a free component");
+    for (std::size_t i = 0; i < 2; ++i) {
+      const Item c{d.node[i], mark_or(d.node[i], d.mark), child_path(d.path, i)};
+      if (c.node.IsNull())
+        continue;
+      p.displacement[i] = number(c);
+    }
+    if (!p.displacement[0] && !p.displacement[1])
+      fail(d, "both components are free (~); prescribe at least one");
+    if (spec.analysis == AnalysisType::Explicit)
+      fail(m.self(), "prescribed displacements need an implicit analysis "
+                     "(implicit_quasistatic or implicit_dynamic)");
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
 TimeSpec Validator::time(const Item& it) const {
   const Map m(*this, it, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
   TimeSpec t;
@@ -872,7 +913,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     fail(top_item, "a case file must be a map of keys (name:, grid:, ...), got " + describe(root));
   const Map top(*this, top_item,
                 {"name", "analysis", "dimension", "grid", "materials", "bodies", "gravity",
-                 "boundaries", "point_loads", "tractions", "time", "output", "probes", "solver"});
+                 "boundaries", "point_loads", "tractions", "prescribed", "time", "output", "probes",
+                 "solver"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
   if (top.has("analysis"))
@@ -890,6 +932,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.point_loads = point_loads(top["point_loads"]);
   if (top.present("tractions"))
     spec.tractions = tractions(top["tractions"], spec);
+  if (top.present("prescribed"))
+    spec.prescribed = prescribed(top["prescribed"], spec);
   spec.time = time(top.required("time"));
   if (top.present("output"))
     spec.output = output(top["output"]);

@@ -172,13 +172,9 @@ private:
       r.setZero();
     for (const Index n : active()) {
       const auto s = at(n);
-      const int face = scene_.node_face[s];
-      if (face >= 0) {
-        const std::uint8_t mask = scene_.constrained[s];
-        for (int d = 0; d < Dim; ++d)
-          if (mask & (1u << d))
-            reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
-      }
+      for (int d = 0; d < Dim; ++d)
+        if (const int face = scene_.component_face[2 * s + static_cast<std::size_t>(d)]; face >= 0)
+          reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
       if (mass_[s] <= tiny_mass_) {
         acceleration_[s].setZero();
         continue;

@@ -54,9 +54,9 @@ public:
       r.setZero();
   }
 
-  NewtonReport step(double lambda_end, double dt) override {
+  NewtonReport step(double lambda_end, double ramp_end, double dt) override {
     dt_ = dt;
-    prepare_step(lambda_end);
+    prepare_step(lambda_end, ramp_end);
     NewtonOptions options;
     options.residual_scale = force_scale_;
     // The stress carries an absolute round-off of about eps * E (the strain comes from F - I),
@@ -92,8 +92,10 @@ public:
         report = std::move(retry);
       }
     }
-    if (report.converged)
+    if (report.converged) {
       commit(du, dt);
+      ramp_committed_ = ramp_end;
+    }
     return report;
   }
 
@@ -114,6 +116,7 @@ public:
     return e;
   }
   std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
+  std::vector<Vec2> prescribed_reactions() const override { return prescribed_reactions_; }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
   Index unknowns() const override { return dof_count_; }
   double seconds_particle_update() const override { return seconds_particle_update_; }
@@ -206,9 +209,19 @@ private:
     return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
   }
   Index dof_of(Index node, int a) const { return node_dof_[at(2 * node + a)]; }
+  /// The increment of node n: unknowns from du, prescribed components from the ramp, zero for
+  /// held components.
+  V node_increment(Index n, const Eigen::VectorXd& du) const {
+    V u;
+    for (int a = 0; a < Dim; ++a) {
+      const Index dof = dof_of(n, a);
+      u[a] = dof >= 0 ? du[dof] : prescribed_du_[at(2 * n + a)];
+    }
+    return u;
+  }
 
   // Connectivity at the step's start configuration, the unknowns, and the load vector.
-  void prepare_step(double lambda_end) {
+  void prepare_step(double lambda_end, double ramp_end) {
     const auto& P = scene_.particles;
     map_.update(scene_.grid, P);
     const auto nn = static_cast<std::size_t>(scene_.grid.node_count());
@@ -221,14 +234,24 @@ private:
       heaviest = std::max(heaviest, m);
     }
     node_dof_.assign(2 * nn, -1);
+    prescribed_du_.assign(2 * nn, 0.0);
     dof_count_ = 0;
     for (const Index n : map_.active_nodes()) {
-      if (node_mass_[at(n)] < kImplicitTinyNodeMassFraction * heaviest)
-        continue;
+      const std::int32_t region = scene_.node_prescribed[at(n)];
       const std::uint8_t mask = scene_.constrained[at(n)];
-      for (int a = 0; a < Dim; ++a)
-        if (!(mask & (1u << a)))
-          node_dof_[at(2 * n + a)] = dof_count_++;
+      for (int a = 0; a < Dim; ++a) {
+        // A prescribed component wins over a face condition on the same node.
+        if (region >= 0) {
+          const auto& value = scene_.spec.prescribed[at(region)].displacement[at(a)];
+          if (value) {
+            prescribed_du_[at(2 * n + a)] = (ramp_end - ramp_committed_) * *value;
+            continue;
+          }
+        }
+        if (node_mass_[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
+          continue;
+        node_dof_[at(2 * n + a)] = dof_count_++;
+      }
     }
     if (dynamic_) {
       // Lumped mass and the mass-weighted projections of the particles' velocity and
@@ -290,13 +313,7 @@ private:
     for (Index p = 0; p < P.size(); ++p) {
       M dF = M::Identity();
       map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        V u = V::Zero();
-        for (int a = 0; a < Dim; ++a) {
-          const Index dof = dof_of(n, a);
-          if (dof >= 0)
-            u[a] = du[dof];
-        }
-        dF += u * grad.transpose();
+        dF += node_increment(n, du) * grad.transpose();
       });
       trial_dF_[at(p)] = dF;
       trial_F_[at(p)] = embed_plane_strain(dF * P.F[at(p)]);
@@ -359,12 +376,9 @@ private:
       V dx = V::Zero();
       map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
         const V f = G2 * grad;
-        for (int a = 0; a < Dim; ++a) {
+        for (int a = 0; a < Dim; ++a)
           internal[at(2 * n + a)] += f[a];
-          const Index dof = dof_of(n, a);
-          if (dof >= 0)
-            dx[a] += w * du[dof];
-        }
+        dx += w * node_increment(n, du);
       });
       const Mat3& F = trial_F_[s];
       const double J = F.determinant();
@@ -391,18 +405,29 @@ private:
         P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
       }
     }
-    for (auto& r : reactions_)
-      r.setZero();
+    prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec2::Zero());
     for (const Index n : map_.active_nodes()) {
-      const int face = scene_.node_face[at(n)];
-      if (face < 0)
+      const std::int32_t region = scene_.node_prescribed[at(n)];
+      if (region < 0)
         continue;
-      const std::uint8_t mask = scene_.constrained[at(n)];
       for (int a = 0; a < Dim; ++a)
-        if (mask & (1u << a))
-          reactions_[static_cast<std::size_t>(face)][a] +=
+        if (is_prescribed(n, a))
+          prescribed_reactions_[at(region)][a] +=
               internal[at(2 * n + a)] - full_external_[at(2 * n + a)];
     }
+    for (auto& r : reactions_)
+      r.setZero();
+    for (const Index n : map_.active_nodes())
+      for (int a = 0; a < Dim; ++a)
+        if (const int face = scene_.component_face[at(2 * n + a)];
+            face >= 0 && !is_prescribed(n, a))
+          reactions_[static_cast<std::size_t>(face)][a] +=
+              internal[at(2 * n + a)] - full_external_[at(2 * n + a)];
+  }
+
+  bool is_prescribed(Index n, int a) const {
+    const std::int32_t region = scene_.node_prescribed[at(n)];
+    return region >= 0 && scene_.spec.prescribed[at(region)].displacement[at(a)].has_value();
   }
 
   Scene<Dim>& scene_;
@@ -425,6 +450,9 @@ private:
   std::array<Vec2, kFaceCount> reactions_{};
   double seconds_particle_update_ = 0;
   bool dynamic_ = false;
+  std::vector<double> prescribed_du_; ///< per (node, component): this step's increment
+  double ramp_committed_ = 0;         ///< prescribed-displacement fraction reached so far
+  std::vector<Vec2> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)

@@ -62,6 +62,10 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
       cols.push_back(fmt::format("reaction_{}_x", face_name(f)));
       cols.push_back(fmt::format("reaction_{}_y", face_name(f)));
     }
+  for (const auto& region : scene.spec.prescribed) {
+    cols.push_back(fmt::format("reaction_{}_x", region.name));
+    cols.push_back(fmt::format("reaction_{}_y", region.name));
+  }
   for (const auto& name : scene.probe_names)
     for (const char* q : {"x", "y", "vx", "vy", "sxx", "syy", "sxy", "szz"})
       cols.push_back(fmt::format("{}.{}", name, q));
@@ -69,8 +73,9 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
 }
 
 std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
-                                   const std::array<Vec2, kFaceCount>& reactions, double time,
-                                   Index step, double dt) {
+                                   const std::array<Vec2, kFaceCount>& reactions,
+                                   const std::vector<Vec2>& prescribed, double time, Index step,
+                                   double dt) {
   std::vector<double> row = {time,
                              static_cast<double>(step),
                              dt,
@@ -85,6 +90,11 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
       row.push_back(reactions[static_cast<std::size_t>(f)].x());
       row.push_back(reactions[static_cast<std::size_t>(f)].y());
     }
+  for (std::size_t r = 0; r < scene.spec.prescribed.size(); ++r) {
+    const Vec2 f = r < prescribed.size() ? prescribed[r] : Vec2::Zero();
+    row.push_back(f.x());
+    row.push_back(f.y());
+  }
   const auto& P = scene.particles;
   for (const Index p : scene.probe_particles) {
     const auto s = static_cast<std::size_t>(p);
@@ -110,8 +120,9 @@ struct Recorder {
     return frame_interval > 0 ? std::min(end_time, next_frame_time) : end_time;
   }
   void after_step(Index step, double t, double dt, const Energies& e,
-                  const std::array<Vec2, kFaceCount>& reactions, const std::string& extra) {
-    series.append(timeseries_row(scene, e, reactions, t, step, dt));
+                  const std::array<Vec2, kFaceCount>& reactions,
+                  const std::vector<Vec2>& prescribed, const std::string& extra) {
+    series.append(timeseries_row(scene, e, reactions, prescribed, t, step, dt));
     const OutputSpec& out = scene.spec.output;
     frame_at_current_step = false;
     const bool due =
@@ -152,7 +163,7 @@ constexpr double kSliver = 1e-9;
 void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result) {
   auto solver = make_explicit_solver(scene);
   const TimeSpec& time = scene.spec.time;
-  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), 0, 0, 0));
+  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), {}, 0, 0, 0));
   while (s.t < time.end_time * (1.0 - 1e-14)) {
     check_limits(time, s);
     if (g_interrupted)
@@ -169,7 +180,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
       throw NumericalError("non-finite energy");
-    rec.after_step(s.step, s.t, dt, e, solver->reactions(), {});
+    rec.after_step(s.step, s.t, dt, e, solver->reactions(), {}, {});
   }
   rec.final_frame(s.step, s.t);
   result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
@@ -194,7 +205,8 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
   std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
   double assembly = 0, factorization = 0, solve = 0;
   Index newton_iterations = 0, linear_solves = 0, cutbacks = 0, max_iterations = 0;
-  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), 0, 0, 0));
+  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(),
+                                   solver->prescribed_reactions(), 0, 0, 0));
   auto record_totals = [&] {
     result.extra["load_steps"] = static_cast<double>(s.step);
     result.extra["newton_iterations"] = static_cast<double>(newton_iterations);
@@ -220,7 +232,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       // Quasi-static loads ramp with the pseudo-time; dynamic loads act in full from t = 0.
       const double load_factor =
           scene.spec.analysis == AnalysisType::ImplicitDynamic ? 1.0 : t_end / time.end_time;
-      const NewtonReport r = solver->step(load_factor, step_dt);
+      const NewtonReport r = solver->step(load_factor, t_end / time.end_time, step_dt);
       assembly += r.seconds_assembly;
       factorization += r.seconds_factorization;
       solve += r.seconds_solve;
@@ -258,7 +270,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
         easy_steps = 0;
       }
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
-                     fmt::format("newton {}", r.iterations));
+                     solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
     }
   } catch (const NumericalError&) {
     record_totals();

@@ -3,6 +3,7 @@
 // load is far beyond what the load stepper can follow (through the CLI), an unloaded body, and
 // the self-weight of an elastic block (global equilibrium and the 1D uniaxial-strain column).
 // Every run goes to a fresh temporary directory that is removed afterwards.
+#include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
@@ -415,5 +416,64 @@ TEST_F(Implicit, ImplicitRollerSidesGiveUniaxialStrain) {
   }
   if (max_errors[1] > kRoundOff) {
     EXPECT_LT(max_errors[1], max_errors[0]);
+  }
+}
+
+// A block in a box of rollers compressed by a prescribed displacement of its top nodes,
+// uy = -1e-3 over a height of 1: a uniform uniaxial strain eps = -1e-3, whose stresses are
+// sigma_yy = (lambda + 2 mu) eps and sigma_xx = lambda eps. The top region's reaction must carry
+// sigma_yy over the unit width and the side walls sigma_xx over the unit height. Bound 2 |eps|:
+// the discrete reaction sums the top row's points, whose domains end |eps| h below the nodes
+// after the first step (measured 7.8e-4). The forces on the body balance to the Newton
+// tolerance.
+TEST_F(Implicit, ImplicitPrescribedDisplacementGivesUniaxialStrainReactions) {
+  const std::string text = R"(name: press
+analysis: implicit_quasistatic
+grid: {origin: [0, 0], extent: [1, 1.5], cell_size: 0.125}
+materials:
+  - {name: soil, model: linear_elastic, density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+bodies:
+  - {name: block, material: soil, shape: rectangle, min: [0, 0], max: [1, 1]}
+boundaries: {x_min: roller, x_max: roller, y_min: roller}
+prescribed:
+  - {name: top, min: [0, 1], max: [1, 1], displacement: [~, -0.001]}
+time: {end_time: 1, dt: 0.5}
+output: {every_steps: 1}
+)";
+  const talus::RunResult r = run(text, {}, "press");
+  ASSERT_EQ(r.status, "completed") << r.message;
+  const double E = 1e7, nu = 0.3, eps = -1e-3;
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const talus::CsvTable table = talus::read_csv(r.out_dir / "timeseries.csv");
+  const double top = table.column("reaction_top_y").back();
+  const double bottom = table.column("reaction_y_min_y").back();
+  const double left = table.column("reaction_x_min_x").back();
+  const double right = table.column("reaction_x_max_x").back();
+  EXPECT_NEAR(top, (lambda + 2 * mu) * eps, 2e-3 * std::abs((lambda + 2 * mu) * eps));
+  EXPECT_NEAR(left, -lambda * eps, 2e-3 * std::abs(lambda * eps));
+  EXPECT_NEAR(top + bottom, 0.0, 1e-8 * std::abs(top));
+  EXPECT_NEAR(left + right, 0.0, 1e-8 * std::abs(left));
+  // Half the displacement after the first of the two steps: the ramp in t / end_time.
+  EXPECT_NEAR(table.column("reaction_top_y")[1], 0.5 * top, 2e-3 * std::abs(top));
+}
+
+TEST_F(Implicit, ImplicitPrescribedDisplacementIsRefusedForExplicit) {
+  const std::string text = R"(name: press
+grid: {origin: [0, 0], extent: [1, 1.5], cell_size: 0.125}
+materials:
+  - {name: soil, model: linear_elastic, density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+bodies:
+  - {name: block, material: soil, shape: rectangle, min: [0, 0], max: [1, 1]}
+prescribed:
+  - {name: top, min: [0, 1], max: [1, 1], displacement: [~, -0.001]}
+time: {end_time: 1, cfl: 0.5}
+)";
+  try {
+    talus::read_case_text(text, "case.yaml");
+    FAIL() << "expected an InputError";
+  } catch (const talus::InputError& e) {
+    EXPECT_EQ(e.where().line, 8); // the list item that asks for it
+    EXPECT_NE(std::string(e.what()).find("need an implicit analysis"), std::string::npos)
+        << e.what();
   }
 }

@@ -27,8 +27,12 @@ template <int Dim> struct Scene {
   std::vector<std::vector<Index>> particles_of_material; ///< batches for the material update
   /// Per node, bit d set: velocity component d is held at zero (fixed or roller face).
   std::vector<std::uint8_t> constrained;
-  /// Per node, the face it belongs to (-1 if none); corners count for the x face.
-  std::vector<std::int8_t> node_face;
+  /// Per node and velocity component (index 2 n + d), the face whose condition holds that
+  /// component (-1 if none): the face that receives its reaction. At a corner each component
+  /// goes to the face that constrains it, preferring the face normal to it.
+  std::vector<std::int8_t> component_face;
+  /// Per node, the index of the PrescribedSpec whose box holds it (-1 if none).
+  std::vector<std::int32_t> node_prescribed;
   std::vector<Index> probe_particles; ///< one particle per ProbeSpec, same order
   std::vector<std::string> probe_names;
 };

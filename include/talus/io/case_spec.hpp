@@ -85,6 +85,16 @@ struct TractionSpec {
   SourceLocation where;
 };
 
+/// Grid nodes inside a box follow a prescribed displacement (implicit analyses): each given
+/// component reaches its value at end_time, ramped linearly in t / end_time; a component left
+/// out (null) stays free. The support force they need is reported as a reaction.
+struct PrescribedSpec {
+  std::string name;                                  ///< required, unique; names the reaction
+  Vec2 min{0, 0}, max{0, 0};                         ///< m, the box (inclusive) of grid nodes
+  std::array<std::optional<double>, 2> displacement; ///< m, at end_time
+  SourceLocation where;
+};
+
 struct TimeSpec {
   double end_time = 0;        ///< s, > 0 (required)
   std::optional<double> dt;   ///< s, > 0: fixed step; exactly one of dt and cfl
@@ -139,6 +149,7 @@ struct CaseSpec {
   BoundarySpec boundaries;
   std::vector<PointLoadSpec> point_loads;
   std::vector<TractionSpec> tractions;
+  std::vector<PrescribedSpec> prescribed;
   TimeSpec time;
   OutputSpec output;
   std::vector<ProbeSpec> probes;

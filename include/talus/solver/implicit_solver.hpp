@@ -14,18 +14,22 @@
 
 #include <array>
 #include <memory>
+#include <vector>
 
 namespace talus {
 
 class ImplicitSolver {
 public:
   virtual ~ImplicitSolver() = default;
-  /// Tries the load step that takes the load factor to `lambda_end` over the pseudo-time step
-  /// dt. On convergence the particle state is advanced; otherwise it is left untouched.
-  virtual NewtonReport step(double lambda_end, double dt) = 0;
+  /// Tries the step that takes the load factor to `lambda_end` and the prescribed
+  /// displacements to the fraction `ramp_end` of their final values, over the time step dt.
+  /// On convergence the particle state is advanced; otherwise it is left untouched.
+  virtual NewtonReport step(double lambda_end, double ramp_end, double dt) = 0;
   virtual Energies energies() const = 0;
   /// Support reactions per grid face at the last converged step, N (per unit thickness).
   virtual std::array<Vec2, kFaceCount> reactions() const = 0;
+  /// The force each prescribed region needs (same order as the case's `prescribed`), N.
+  virtual std::vector<Vec2> prescribed_reactions() const = 0;
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
   virtual double seconds_particle_update() const = 0;
