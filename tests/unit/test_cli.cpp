@@ -640,8 +640,8 @@ TEST_F(Cli, CliInfoAndHelp) {
 }
 
 TEST_F(Cli, CliShippedCaseRuns) {
-  const fs::path shipped = fs::weakly_canonical(fs::path(TALUS_TEST_DATA_DIR "/../..") / "cases" /
-                                                "colliding_discs.yaml");
+  const fs::path shipped =
+      fs::weakly_canonical(fs::path(TALUS_TESTS_DIR "/..") / "cases" / "colliding_discs.yaml");
   ASSERT_TRUE(fs::is_regular_file(shipped)) << shipped;
   const Outcome r =
       talus({"run", shipped.string(), "--out", "out", "--set", "time.end_time=0.005"});

@@ -306,7 +306,7 @@ TEST(Results, XdmfOpensInVtkReaders) {
     for (int k = 0; k < 3; ++k)
       w.write_frame(kSteps[k], kTimes[k], make_particles(n, k), kAllFields);
   }
-  const fs::path script = fs::path(TALUS_TEST_DATA_DIR) / ".." / "python" / "check_results.py";
+  const fs::path script = fs::path(TALUS_TESTS_DIR) / "python" / "check_results.py";
   ASSERT_TRUE(fs::exists(script)) << script;
   const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + dir.path().string() +
                           "' --particles " + std::to_string(n) +
