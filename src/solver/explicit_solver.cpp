@@ -81,21 +81,7 @@ public:
     return cfl * scene_.grid.cell_size() / max_speed;
   }
 
-  Energies energies() const override {
-    Energies e;
-    const auto& P = scene_.particles;
-    const Vec2 g = scene_.spec.gravity;
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = static_cast<std::size_t>(p);
-      e.kinetic += 0.5 * P.mass[s] * P.v[s].squaredNorm();
-      e.strain +=
-          P.volume0[s] * scene_.materials[static_cast<std::size_t>(P.material[s])]->energy_density(
-                             embed_plane_strain(P.F[s]));
-      e.gravity -= P.mass[s] * g.dot(P.x[s]);
-      e.momentum += P.mass[s] * P.v[s];
-    }
-    return e;
-  }
+  Energies energies() const override { return particle_energies(scene_, true); }
 
   std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }

@@ -99,22 +99,7 @@ public:
     return report;
   }
 
-  Energies energies() const override {
-    Energies e;
-    const auto& P = scene_.particles;
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = at(p);
-      e.strain +=
-          P.volume0[s] * scene_.materials[static_cast<std::size_t>(P.material[s])]->energy_density(
-                             embed_plane_strain(P.F[s]));
-      e.gravity -= P.mass[s] * scene_.spec.gravity.dot(P.x[s]);
-      if (dynamic_) {
-        e.kinetic += 0.5 * P.mass[s] * P.v[s].squaredNorm();
-        e.momentum += P.mass[s] * P.v[s];
-      }
-    }
-    return e;
-  }
+  Energies energies() const override { return particle_energies(scene_, dynamic_); }
   std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
   std::vector<Vec2> prescribed_reactions() const override { return prescribed_reactions_; }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }

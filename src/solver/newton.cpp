@@ -92,9 +92,6 @@ int ls_setup(SUNLinearSolver ls, SUNMatrix) {
     ++d.report.factorizations;
     d.report.seconds_factorization += seconds_since(t0);
     return 0;
-  } catch (const NumericalError&) {
-    d.error = std::current_exception();
-    return SUNLS_PACKAGE_FAIL_UNREC;
   } catch (...) {
     d.error = std::current_exception();
     return SUNLS_PACKAGE_FAIL_UNREC;

@@ -45,6 +45,9 @@ public:
                              std::span<Mat3> stress) const = 0;
   /// Stored (strain) energy per unit reference volume.
   virtual double energy_density(const Mat3& F) const = 0;
+  /// sum over ids of volume0 * energy_density(F): the stored energy of a batch of points.
+  virtual double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
+                               std::span<const double> volume0) const = 0;
   /// Kirchhoff stress and consistent tangent dtau/dF at the trial deformation gradients
   /// F[ids[k]] (full 3x3), written to out[ids[k]]: the implicit solver's material update.
   virtual void response(std::span<const Index> ids, std::span<const Mat3> F,
@@ -68,6 +71,16 @@ public:
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
       stress_out[p] = law.stress(embed_plane_strain(F[p]));
     });
+  }
+  double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
+                       std::span<const double> volume0) const final {
+    const auto& law = static_cast<const Law&>(*this);
+    double sum = 0;
+    for (const Index p : ids) {
+      const auto s = static_cast<std::size_t>(p);
+      sum += volume0[s] * law.Law::energy_density(embed_plane_strain(F[s]));
+    }
+    return sum;
   }
   void response(std::span<const Index> ids, std::span<const Mat3> F,
                 std::span<StressTangent> out) const final {

@@ -6,18 +6,12 @@
 // particles of the neighbouring bins in a fixed order. No two threads write the same node, so
 // the result is bitwise identical for any thread count.
 #include "talus/core/scene.hpp"
+#include "talus/solver/energies.hpp"
 
 #include <array>
 #include <memory>
 
 namespace talus {
-
-struct Energies {
-  double kinetic = 0;  ///< J per unit thickness
-  double strain = 0;   ///< J per unit thickness
-  double gravity = 0;  ///< potential -sum m g.x, J per unit thickness
-  Vec2 momentum{0, 0}; ///< kg m/s per unit thickness
-};
 
 class ExplicitSolver {
 public:
