@@ -1,8 +1,9 @@
-// talus: the command-line front end. Sub-commands: run, verify, bench, info.
+// talus: the command-line front end. Sub-commands: run, verify, bench, render, info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/post/render.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/verify/bench.hpp"
 #include "talus/verify/verification.hpp"
@@ -96,6 +97,23 @@ int main(int argc, char** argv) {
                    "OpenMP threads of each run (default 1; 0: all cores)")
       ->check(CLI::NonNegativeNumber);
 
+  auto* render_cmd = app.add_subcommand(
+      "render", "Draw frames of a run as deformed voxels (or dots) coloured by a field: PNG");
+  RenderOptions render_options;
+  render_cmd->add_option("results", render_options.results, "run.h5 of a run")->required();
+  render_cmd->add_option("--field", render_options.field,
+                         "Particle field: stress, stress_smoothed, velocity, F, mass, ...");
+  render_cmd->add_option("--component", render_options.component,
+                         "Component: xx, xy, yy, zz, ... (tensors), x, y, magnitude (vectors)");
+  render_cmd->add_option("--frame", render_options.frame,
+                         "Frame number, last (default) or all (a numbered sequence)");
+  render_cmd->add_option("--pattern", render_options.pattern,
+                         "Colour by a pattern instead: checker, stripes_horizontal, "
+                         "stripes_vertical");
+  render_cmd->add_option("--mode", render_options.mode,
+                         "voxels or points (default: voxels when the run wrote them)");
+  render_cmd->add_option("-o,--output", render_options.output, "Output picture (.png)")->required();
+
   auto* info = app.add_subcommand("info", "Version, build options and available backends");
 
   try {
@@ -112,6 +130,8 @@ int main(int argc, char** argv) {
       return run_verification(verify_options);
     if (*bench)
       return run_bench(bench_options);
+    if (*render_cmd)
+      return render(render_options);
     if (*info)
       return print_info();
   } catch (const InputError& e) {

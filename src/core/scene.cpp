@@ -171,8 +171,15 @@ void apply_tractions(Scene<2>& scene) {
       if (P.body[s] != t.body_index)
         continue;
       const double tol = 1e-6 * P.half_size0[s][axis];
-      if (std::abs(P.x[s][axis] - extreme) <= tol)
-        P.external_force[s] += t.traction * (2.0 * P.half_size0[s][1 - axis]);
+      if (std::abs(P.x[s][axis] - extreme) > tol)
+        continue;
+      SurfaceLoad load;
+      load.particle = p;
+      load.offset[axis] = (upper ? 1.0 : -1.0) * P.half_size0[s][axis];
+      load.force = t.traction * (2.0 * P.half_size0[s][1 - axis]);
+      // Only an implicit analysis has a load factor; explicit loads are always in full.
+      load.constant = t.constant && scene.spec.analysis != AnalysisType::Explicit;
+      scene.surface_loads.push_back(load);
     }
   }
 }
@@ -214,7 +221,76 @@ void constrain_faces(Scene<2>& scene) {
   }
 }
 
+// Geostatic or uniform initial stresses of the bodies that ask for one: the particles' stress
+// and the elastic strain their material starts from.
+void apply_initial_stress(Scene<2>& scene) {
+  const CaseSpec& spec = scene.spec;
+  auto& P = scene.particles;
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
+    const BodySpec& body = spec.bodies[b];
+    if (!body.initial_stress)
+      continue;
+    const auto& init = *body.initial_stress;
+    const MaterialSpec& material = spec.materials[static_cast<std::size_t>(body.material_index)];
+    const double nu = material.poisson_ratio;
+    const double k0 = init.k0.value_or(nu / (1.0 - nu));
+    const double unit_weight = material.density * spec.gravity.norm();
+    std::vector<Index> ids;
+    for (Index p = 0; p < P.size(); ++p) {
+      const auto s = static_cast<std::size_t>(p);
+      if (P.body[s] != static_cast<int>(b))
+        continue;
+      ids.push_back(p);
+      Mat3 sigma = Mat3::Zero();
+      if (init.kind == BodySpec::InitialStress::Kind::Uniform) {
+        sigma(0, 0) = init.stress[0];
+        sigma(1, 1) = init.stress[1];
+        sigma(0, 1) = sigma(1, 0) = init.stress[2];
+        sigma(2, 2) = init.stress[3];
+      } else {
+        const double vertical = -unit_weight * std::max(0.0, init.surface - P.x[s].y());
+        sigma(1, 1) = vertical;
+        sigma(0, 0) = sigma(2, 2) = k0 * vertical;
+      }
+      P.stress[s] = sigma;
+    }
+    try {
+      scene.materials[static_cast<std::size_t>(body.material_index)]->set_initial_stress(ids,
+                                                                                         P.stress);
+    } catch (const InputError& e) {
+      SourceLocation where = body.where;
+      where.key_path += ".initial_stress";
+      throw InputError(where, e.detail());
+    }
+  }
+}
+
 } // namespace
+
+void locate_prescribed_nodes(Scene<2>& scene, double ramp) {
+  const CaseSpec& spec = scene.spec;
+  scene.node_prescribed.assign(static_cast<std::size_t>(scene.grid.node_count()), -1);
+  const double tol = 1e-9 * scene.grid.cell_size();
+  for (Index id = 0; id < scene.grid.node_count(); ++id) {
+    const Vec2 x = scene.grid.node_position(scene.grid.node_ijk(id));
+    for (std::size_t r = 0; r < spec.prescribed.size(); ++r) {
+      const PrescribedSpec& box = spec.prescribed[r];
+      // The box moves in whole cells, the prescribed displacement rounded to the nearest
+      // multiple of h, so that it keeps holding the same number of node layers (a box one
+      // layer thick would otherwise lose its nodes as soon as it moves).
+      const double h = scene.grid.cell_size();
+      Vec2 shift = Vec2::Zero();
+      for (int d = 0; d < 2; ++d)
+        if (box.displacement[static_cast<std::size_t>(d)])
+          shift[d] = h * std::round(ramp * *box.displacement[static_cast<std::size_t>(d)] / h);
+      if ((x.array() >= (box.min + shift).array() - tol).all() &&
+          (x.array() <= (box.max + shift).array() + tol).all()) {
+        scene.node_prescribed[static_cast<std::size_t>(id)] = static_cast<std::int32_t>(r);
+        break;
+      }
+    }
+  }
+}
 
 Scene<2> build_scene(const CaseSpec& spec) {
   Scene<2> scene;
@@ -237,6 +313,8 @@ Scene<2> build_scene(const CaseSpec& spec) {
             scene.particles.material[static_cast<std::size_t>(p)])]
         .push_back(p);
 
+  apply_initial_stress(scene);
+
   for (const PointLoadSpec& load : spec.point_loads) {
     const Index p = nearest_particle(scene.particles, load.point);
     scene.particles.external_force[static_cast<std::size_t>(p)] += load.force;
@@ -244,19 +322,7 @@ Scene<2> build_scene(const CaseSpec& spec) {
   apply_tractions(scene);
   constrain_faces(scene);
 
-  scene.node_prescribed.assign(static_cast<std::size_t>(scene.grid.node_count()), -1);
-  const double tol = 1e-9 * scene.grid.cell_size();
-  for (Index id = 0; id < scene.grid.node_count(); ++id) {
-    const Vec2 x = scene.grid.node_position(scene.grid.node_ijk(id));
-    for (std::size_t r = 0; r < spec.prescribed.size(); ++r) {
-      const PrescribedSpec& box = spec.prescribed[r];
-      if ((x.array() >= box.min.array() - tol).all() &&
-          (x.array() <= box.max.array() + tol).all()) {
-        scene.node_prescribed[static_cast<std::size_t>(id)] = static_cast<std::int32_t>(r);
-        break;
-      }
-    }
-  }
+  locate_prescribed_nodes(scene, 0.0);
   for (const ProbeSpec& probe : spec.probes) {
     Index p = -1;
     if (probe.particle) {

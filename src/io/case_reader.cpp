@@ -4,6 +4,7 @@
 
 #include "talus/core/expression.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/material/plastic_material.hpp"
 
 #include "talus/core/errors.hpp"
 #include "yaml_support.hpp"
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <system_error>
@@ -301,6 +303,15 @@ public:
     fail(it, what);
   }
 
+  /// true or false (YAML's plain booleans only: a switch spelled yes/on is more likely a typo).
+  bool boolean(const Item& it) const {
+    const YAML::Node& n = it.node;
+    const bool quoted = n.Tag() == "!" || n.Tag() == "tag:yaml.org,2002:str";
+    if (n.IsScalar() && !quoted && (n.Scalar() == "true" || n.Scalar() == "false"))
+      return n.Scalar() == "true";
+    fail(it, "expected true or false, got " + describe(n));
+  }
+
   double positive(const Item& it) const {
     const double v = number(it);
     if (!(v > 0))
@@ -324,7 +335,11 @@ private:
   TimeSpec time(const Item& it) const;
   OutputSpec output(const Item& it) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
-  SolverSpec solver(const Item& it) const;
+  SolverSpec solver(const Item& it, AnalysisType analysis) const;
+  void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
+  static std::vector<std::string> solver_keys();
+  BodySpec::InitialStress initial_stress(const Item& it, const BodySpec& b,
+                                         const CaseSpec& spec) const;
 
   /// Remembers names of one kind and rejects a repeat.
   class UniqueNames {
@@ -441,25 +456,167 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
   std::vector<MaterialSpec> out;
   UniqueNames names(*this, "material");
   for (const Item& item : items) {
-    const Map m(*this, item, {"name", "model", "density", "youngs_modulus", "poisson_ratio"});
+    const Map m(*this, item,
+                {"name", "model", "density", "youngs_modulus", "poisson_ratio", "kinematics",
+                 "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
+                 "dilation_angle", "residual"});
     MaterialSpec s;
     s.where = locate(m.self());
     const Item name_item = m.required("name");
     s.name = name(name_item);
     names.add(s.name, name_item, item.path);
-    s.model = choice<MaterialModel>(m.required("model"),
-                                    {{"linear_elastic", MaterialModel::LinearElastic},
-                                     {"neo_hookean", MaterialModel::NeoHookean},
-                                     {"hencky", MaterialModel::Hencky}});
+    const Item model_item = m.required("model");
+    s.model = choice<MaterialModel>(model_item, {{"linear_elastic", MaterialModel::LinearElastic},
+                                                 {"neo_hookean", MaterialModel::NeoHookean},
+                                                 {"hencky", MaterialModel::Hencky},
+                                                 {"von_mises", MaterialModel::VonMises},
+                                                 {"tresca", MaterialModel::Tresca},
+                                                 {"mohr_coulomb", MaterialModel::MohrCoulomb},
+                                                 {"drucker_prager", MaterialModel::DruckerPrager}});
     s.density = positive(m.required("density"));
     s.youngs_modulus = positive(m.required("youngs_modulus"));
     const Item nu = m.required("poisson_ratio");
     s.poisson_ratio = number(nu);
     if (!(s.poisson_ratio > -1 && s.poisson_ratio < 0.5))
       fail(nu, "must be in the open interval (-1, 0.5) (got " + nu.node.Scalar() + ")");
+    plastic_parameters(m, model_item, s);
     out.push_back(std::move(s));
   }
   return out;
+}
+
+BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec& b,
+                                                  const CaseSpec& spec) const {
+  const MaterialSpec& material = spec.materials[static_cast<std::size_t>(b.material_index)];
+  if (!is_plastic(material.model))
+    fail(it, "an initial stress needs a model with an elastic strain state (von_mises, tresca, "
+             "mohr_coulomb, drucker_prager); material '" +
+                 material.name + "' is elastic, its stress follows from F alone");
+  const Map m(*this, it, {"type", "surface", "k0", "stress"});
+  BodySpec::InitialStress s;
+  using Kind = BodySpec::InitialStress::Kind;
+  s.kind = choice<Kind>(m.required("type"),
+                        {{"geostatic", Kind::Geostatic}, {"uniform", Kind::Uniform}});
+  for (const char* key : {"surface", "k0", "stress"}) {
+    const bool geostatic_key = std::string(key) != "stress";
+    if (m.has(key) && geostatic_key != (s.kind == Kind::Geostatic))
+      fail(m.key(key), std::string("'") + key + "' does not apply to initial stress type '" +
+                           m["type"].node.Scalar() + "'");
+  }
+  if (s.kind == Kind::Uniform) {
+    const Item stress = m.required("stress");
+    const std::vector<Item> values = list(stress);
+    if (values.size() != 4)
+      fail(stress, "give four stresses [sigma_xx, sigma_yy, sigma_xy, sigma_zz] in Pa");
+    for (std::size_t k = 0; k < 4; ++k)
+      s.stress[k] = number(values[k]);
+    return s;
+  }
+  if (spec.gravity.norm() == 0.0 || spec.gravity.x() != 0.0 || spec.gravity.y() > 0.0)
+    fail(m.self(), "a geostatic initial stress needs gravity along -y (gravity: [0, -g])");
+  // Default surface: the body's top.
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    s.surface = b.max.y();
+    break;
+  case BodyShape::Disc:
+    s.surface = b.centre.y() + b.radius;
+    break;
+  case BodyShape::Polygon:
+    s.surface = -std::numeric_limits<double>::infinity();
+    for (const Vec2& v : b.vertices)
+      s.surface = std::max(s.surface, v.y());
+    break;
+  }
+  if (m.has("surface"))
+    s.surface = number(m["surface"]);
+  if (m.has("k0")) {
+    const Item k0 = m["k0"];
+    s.k0 = number(k0);
+    if (!(*s.k0 > 0.0))
+      fail(k0, "must be positive (got " + k0.node.Scalar() + ")");
+  }
+  return s;
+}
+
+std::vector<std::string> Validator::solver_keys() {
+  return {"shape",
+          "scheme",
+          "transfer",
+          "flip",
+          "linear_solver",
+          "newton_tolerance",
+          "max_newton_iterations",
+          "ghost_penalty"};
+}
+
+void Validator::plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const {
+  // The keys each model takes beyond the elastic ones; any other is refused by name.
+  const std::vector<std::string> frictional = {"kinematics", "cohesion", "friction_angle",
+                                               "dilation_angle", "residual"};
+  std::vector<std::string> takes;
+  switch (s.model) {
+  case MaterialModel::VonMises:
+    takes = {"kinematics", "yield_stress", "hardening_modulus"};
+    break;
+  case MaterialModel::Tresca:
+    takes = {"kinematics", "cohesion"};
+    break;
+  case MaterialModel::MohrCoulomb:
+  case MaterialModel::DruckerPrager:
+    takes = frictional;
+    break;
+  default:
+    break;
+  }
+  for (const char* key : {"kinematics", "yield_stress", "hardening_modulus", "cohesion",
+                          "friction_angle", "dilation_angle", "residual"})
+    if (m.has(key) && std::find(takes.begin(), takes.end(), key) == takes.end())
+      fail(m.key(key), std::string("'") + key + "' does not apply to model '" +
+                           model_item.node.Scalar() + "'" +
+                           (takes.empty() ? std::string(" (an elastic model)")
+                                          : " (it takes: " + join(takes) + ")"));
+  if (takes.empty())
+    return;
+  if (m.has("kinematics"))
+    s.small_strain =
+        choice<bool>(m["kinematics"], {{"finite_strain", false}, {"small_strain", true}});
+  if (s.model == MaterialModel::VonMises) {
+    s.yield_stress = positive(m.required("yield_stress"));
+    if (m.has("hardening_modulus"))
+      s.hardening_modulus = number(m["hardening_modulus"]);
+  } else {
+    s.cohesion = number(m.required("cohesion"));
+  }
+  if (s.model == MaterialModel::MohrCoulomb || s.model == MaterialModel::DruckerPrager) {
+    s.friction_angle = number(m.required("friction_angle"));
+    if (m.has("dilation_angle"))
+      s.dilation_angle = number(m["dilation_angle"]);
+    if (m.present("residual")) {
+      const Map r(*this, m["residual"], {"cohesion", "friction_angle", "plastic_strain"});
+      s.residual =
+          ResidualStrengthSpec{number(r.required("cohesion")), number(r.required("friction_angle")),
+                               number(r.required("plastic_strain"))};
+    }
+  }
+  // The model checks its own parameters (ranges, psi <= phi, ...); report at the key it names.
+  try {
+    make_plastic_model(s);
+  } catch (const InputError& e) {
+    std::string key = e.where().key_path;
+    if (key == "residual.kappa")
+      key = "residual.plastic_strain";
+    Item at = m.self();
+    if (key.rfind("residual.", 0) == 0 && m.present("residual")) {
+      const Map r(*this, m["residual"], {"cohesion", "friction_angle", "plastic_strain"});
+      const std::string sub = key.substr(9);
+      if (r.has(sub))
+        at = r[sub];
+    } else if (m.has(key)) {
+      at = m[key];
+    }
+    fail(at, e.detail());
+  }
 }
 
 std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) const {
@@ -475,7 +632,7 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
   for (const Item& item : items) {
     const Map m(*this, item,
                 {"name", "material", "shape", "centre", "radius", "min", "max", "vertices",
-                 "particles_per_cell", "velocity", "angular_velocity"});
+                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress"});
     BodySpec b;
     b.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -510,6 +667,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       b.angular_velocity = number(m["angular_velocity"]);
 
     body_inside_grid(m, b, spec.grid);
+    if (m.present("initial_stress"))
+      b.initial_stress = initial_stress(m["initial_stress"], b, spec);
     out.push_back(std::move(b));
   }
   return out;
@@ -700,7 +859,7 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
   for (const auto& b : spec.bodies)
     body_names.push_back(b.name);
   for (const Item& item : list(it)) {
-    const Map m(*this, item, {"body", "side", "traction"});
+    const Map m(*this, item, {"body", "side", "traction", "constant"});
     TractionSpec t;
     t.where = locate(m.self());
     const Item body = m.required("body");
@@ -723,6 +882,8 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
                                                {"bottom", Side::Bottom},
                                                {"top", Side::Top}});
     t.traction = vec2(m.required("traction"));
+    if (m.has("constant"))
+      t.constant = boolean(m["constant"]);
     out.push_back(std::move(t));
   }
   return out;
@@ -799,7 +960,8 @@ TimeSpec Validator::time(const Item& it) const {
 }
 
 OutputSpec Validator::output(const Item& it) const {
-  const Map m(*this, it, {"every_steps", "every_time", "fields"});
+  const Map m(*this, it,
+              {"every_steps", "every_time", "fields", "stress_recovery", "voxels", "pattern_size"});
   OutputSpec o;
   if (m.has("every_steps")) {
     const Item every = m["every_steps"];
@@ -824,6 +986,15 @@ OutputSpec Validator::output(const Item& it) const {
         fail(f, "field '" + f.node.Scalar() + "' is listed twice");
       o.fields.push_back(field);
     }
+  }
+  if (m.has("stress_recovery"))
+    o.stress_recovery = boolean(m["stress_recovery"]);
+  if (m.has("voxels"))
+    o.voxels = boolean(m["voxels"]);
+  if (m.has("pattern_size")) {
+    o.pattern_size = positive(m["pattern_size"]);
+    if (!o.voxels)
+      fail(m.key("pattern_size"), "'pattern_size' colours the voxels; it needs 'voxels: true'");
   }
   return o;
 }
@@ -855,10 +1026,8 @@ std::vector<ProbeSpec> Validator::probes(const Item& it) const {
   return out;
 }
 
-SolverSpec Validator::solver(const Item& it) const {
-  const Map m(*this, it,
-              {"shape", "scheme", "transfer", "flip", "linear_solver", "newton_tolerance",
-               "max_newton_iterations"});
+SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
+  const Map m(*this, it, solver_keys());
   SolverSpec s;
   if (m.has("shape"))
     s.shape = choice<ShapeFunction>(
@@ -894,6 +1063,15 @@ SolverSpec Validator::solver(const Item& it) const {
       fail(it_max, "must be an integer in [1, 200] (got " + it_max.node.Scalar() + ")");
     s.max_newton_iterations = static_cast<int>(v);
   }
+  if (m.has("ghost_penalty")) {
+    const Item gp = m["ghost_penalty"];
+    if (analysis == AnalysisType::Explicit)
+      fail(m.key("ghost_penalty"), "'ghost_penalty' stabilises the implicit grid solve; an "
+                                   "explicit analysis has no tangent to stabilise");
+    s.ghost_penalty = number(gp);
+    if (!(s.ghost_penalty >= 0 && s.ghost_penalty < 1))
+      fail(gp, "must be in [0, 1) (got " + gp.node.Scalar() + ")");
+  }
   if (m.has("transfer")) {
     s.transfer = choice<TransferScheme>(
         m["transfer"], {{"flip", TransferScheme::Flip}, {"apic", TransferScheme::Apic}});
@@ -923,9 +1101,9 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.dimension = dimension(top["dimension"]);
   spec.grid = grid(top.required("grid"));
   spec.materials = materials(top.required("materials"));
-  spec.bodies = bodies(top.required("bodies"), spec);
   if (top.has("gravity"))
     spec.gravity = vec2(top["gravity"]);
+  spec.bodies = bodies(top.required("bodies"), spec);
   if (top.present("boundaries"))
     spec.boundaries = boundaries(top["boundaries"]);
   if (top.present("point_loads"))
@@ -940,7 +1118,19 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.present("probes"))
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))
-    spec.solver = solver(top["solver"]);
+    spec.solver = solver(top["solver"], spec.analysis);
+  if (top.present("solver") && !spec.solver.linear_solver.empty())
+    for (const auto& material : spec.materials)
+      if (is_plastic(material.model) && nonsymmetric_tangent(material)) {
+        LinearSolverOptions options;
+        parse_linear_solver_kind(spec.solver.linear_solver, options.kind);
+        if (make_linear_solver(options)->requires_symmetric())
+          fail(Map(*this, top["solver"], solver_keys())["linear_solver"],
+               "'" + spec.solver.linear_solver + "' needs a symmetric tangent, but material '" +
+                   material.name +
+                   "' has non-associated flow or softening (nonsymmetric tangent); use umfpack, "
+                   "klu, eigen_bicgstab or trilinos_gmres, or leave linear_solver out");
+      }
   if (spec.analysis != AnalysisType::Explicit && spec.time.cfl) {
     const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
     fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "

@@ -263,6 +263,46 @@ inline constexpr DatasetInfo kMaterial{
 inline constexpr DatasetInfo kBody{"body",  0, true, "1", "body index into /metadata@body_names",
                                    "Scalar"};
 
+// Post-processing datasets (output.stress_recovery, output.voxels).
+inline constexpr DatasetInfo kStressSmoothed{
+    "stress_smoothed",
+    6,
+    false,
+    "Pa",
+    "smoothed particle stress sigma_p^s = sum_i sigma_i Phi_ip (Andersen 2013), "
+    "Tensor6 order like stress",
+    "Tensor6"};
+inline constexpr DatasetInfo kGridMass{
+    "mass", 0, false, "kg", "node mass m_i = sum_p Phi_ip m_p per unit thickness", "Scalar"};
+inline constexpr DatasetInfo kGridStress{
+    "stress",
+    6,
+    false,
+    "Pa",
+    "grid-node stress sigma_i = sum_p sigma_p Phi_ip m_p / m_i (Andersen 2013), Tensor6 order; "
+    "0 where mass = 0",
+    "Tensor6"};
+inline constexpr DatasetInfo kVoxelCorners{
+    "corners",
+    2,
+    false,
+    "m",
+    "deformed voxel corners x_p + F_p (X_c - X_p): rows 4p .. 4p+3 for particle p, "
+    "counter-clockwise from the initial (-, -) corner",
+    ""};
+inline constexpr DatasetInfo kChecker{
+    "checker", 0, true, "1", "checkerboard pattern (0/1) of the initial lattice", "Scalar"};
+inline constexpr DatasetInfo kStripesHorizontal{"stripes_horizontal",
+                                                0,
+                                                true,
+                                                "1",
+                                                "horizontal stripes (0/1) of the initial lattice",
+                                                "Scalar"};
+inline constexpr DatasetInfo kStripesVertical{
+    "stripes_vertical", 0, true, "1", "vertical stripes (0/1) of the initial lattice", "Scalar"};
+inline constexpr const char* kGridGroup = "grid";
+inline constexpr const char* kVoxelsGroup = "voxels";
+
 /// Datasets of a frame in the order they are written, given the requested output fields
 /// (duplicates ignored; position is always first).
 inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& fields) {

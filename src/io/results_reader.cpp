@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -152,17 +153,21 @@ std::vector<std::string> ResultsReader::frame_fields(Index frame) const {
   return names.names;
 }
 
+bool ResultsReader::frame_has(Index frame, const std::string& path) const {
+  const auto fid = static_cast<hid_t>(file_);
+  Handle g = open_frame(fid, frame, frame_count());
+  if (path.empty() || path.front() == '/' || path.back() == '/')
+    return false;
+  return link_exists(fid, h5::frame_group_name(frame) + "/" + path, file_name(fid));
+}
+
 std::vector<double> ResultsReader::read(Index frame, const std::string& field, Index* rows,
                                         Index* cols) const {
   const auto fid = static_cast<hid_t>(file_);
   const auto path = file_name(fid);
   Handle g = open_frame(fid, frame, frame_count());
   const std::string object = h5::frame_group_name(frame) + "/" + field;
-  const htri_t e = field.empty() || field.find('/') != std::string::npos
-                       ? 0
-                       : H5Lexists(g.get(), field.c_str(), H5P_DEFAULT);
-  h5::check_status(e < 0 ? -1 : 0, "H5Lexists", object, path);
-  if (e == 0)
+  if (!frame_has(frame, field))
     throw std::runtime_error(
         fmt::format("field '{}' is not in frame {} of '{}'", field, frame, path.string()));
   const Site s{path, object};
@@ -174,15 +179,17 @@ std::vector<double> ResultsReader::read(Index frame, const std::string& field, I
   Handle space = h5::space_handle(H5Dget_space(d.get()), s, "H5Dget_space");
   const int rank = H5Sget_simple_extent_ndims(space.get());
   h5::check_status(rank, "H5Sget_simple_extent_ndims", object, path);
-  if (rank > 2)
-    throw std::runtime_error("'" + object + "' in '" + path.string() + "' has rank " +
-                             std::to_string(rank) + " (expected 1 or 2)");
-  hsize_t dims[2] = {1, 1};
+  // Rank > 2 (the lattice-shaped grid/ datasets): the leading dimensions fold into rows.
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 1)), 1);
   if (rank > 0)
-    h5::check_status(H5Sget_simple_extent_dims(space.get(), dims, nullptr),
+    h5::check_status(H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr),
                      "H5Sget_simple_extent_dims", object, path);
-  const Index r = static_cast<Index>(dims[0]);
-  const Index c = rank == 2 ? static_cast<Index>(dims[1]) : 1;
+  Index r = 1;
+  for (std::size_t d = 0; d + 1 < dims.size(); ++d)
+    r *= static_cast<Index>(dims[d]);
+  const Index c = rank >= 2 ? static_cast<Index>(dims.back()) : 1;
+  if (rank < 2)
+    r = static_cast<Index>(dims[0]);
   std::vector<double> out(static_cast<std::size_t>(r * c));
   if (!out.empty())
     h5::check_status(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),

@@ -49,23 +49,34 @@ void set_dataset_attributes(hid_t dset, const h5::DatasetInfo& info, const Site&
   h5::write_string_attribute(dset, "description", info.description, s);
 }
 
-/// Writes an N x columns (or N when columns == 0) dataset from row-major data.
+/// Writes a dataset of the given dimensions from row-major data.
 template <class T>
-void write_dataset(hid_t group, const std::string& group_name, const h5::DatasetInfo& info,
-                   hsize_t n, const std::vector<T>& data, const std::filesystem::path& file) {
+void write_array(hid_t group, const std::string& group_name, const h5::DatasetInfo& info,
+                 const std::vector<hsize_t>& dims, const std::vector<T>& data,
+                 const std::filesystem::path& file) {
   const Site s{file, group_name + "/" + info.name};
-  const hsize_t dims[2] = {n, static_cast<hsize_t>(info.columns)};
-  const int rank = info.columns > 0 ? 2 : 1;
-  Handle space = h5::space_handle(H5Screate_simple(rank, dims, nullptr), s, "H5Screate_simple");
+  const auto rank = static_cast<int>(dims.size());
+  Handle space =
+      h5::space_handle(H5Screate_simple(rank, dims.data(), nullptr), s, "H5Screate_simple");
   const hid_t file_type = info.integer ? H5T_STD_I32LE : H5T_IEEE_F64LE;
   const hid_t mem_type = info.integer ? H5T_NATIVE_INT32 : H5T_NATIVE_DOUBLE;
   Handle dset = h5::dataset_handle(
       H5Dcreate2(group, info.name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
       s, "H5Dcreate2");
-  if (n > 0)
+  if (!data.empty())
     h5::check_status(H5Dwrite(dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
                      "H5Dwrite", s.object, s.file);
   set_dataset_attributes(dset.get(), info, s);
+}
+
+/// Writes an N x columns (or N when columns == 0) dataset from row-major data.
+template <class T>
+void write_dataset(hid_t group, const std::string& group_name, const h5::DatasetInfo& info,
+                   hsize_t n, const std::vector<T>& data, const std::filesystem::path& file) {
+  if (info.columns > 0)
+    write_array(group, group_name, info, {n, static_cast<hsize_t>(info.columns)}, data, file);
+  else
+    write_array(group, group_name, info, {n}, data, file);
 }
 
 /// Makes /xdmf/vertex_ids at least n long (0, 1, 2, ...).
@@ -91,6 +102,63 @@ void ensure_vertex_ids(hid_t file_id, hsize_t n, const std::filesystem::path& fi
   h5::check_status(
       H5Dwrite(dset.get(), H5T_NATIVE_INT64, mspace.get(), fspace.get(), H5P_DEFAULT, ids.data()),
       "H5Dwrite", s.object, s.file);
+}
+
+/// Cauchy stress as a Tensor6 row (xx, xy, xz, yy, yz, zz), the order of every stress dataset.
+void append_tensor6(std::vector<double>& buf, const Mat3& s) {
+  const double t6[6] = {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
+  buf.insert(buf.end(), t6, t6 + 6);
+}
+
+/// The grid/ group: node mass and stress on the physical nodes (ghost layers left out), shaped
+/// like the lattice (z of one node, y, x: x fastest), the shape VTK's XDMF readers expect of a
+/// structured mesh's data, with the lattice as attributes.
+void write_grid_group(hid_t frame, const std::string& frame_name, const RecoveredStress& r,
+                      const std::filesystem::path& file) {
+  const std::string name = frame_name + "/" + h5::kGridGroup;
+  const Site s{file, name};
+  Handle g = h5::group_handle(
+      H5Gcreate2(frame, h5::kGridGroup, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
+  const Grid<2>& grid = r.grid;
+  const Index nx = grid.cells(0) + 1, ny = grid.cells(1) + 1;
+  const double h = grid.cell_size();
+  h5::write_double_attribute(g.get(), "origin", grid.origin().data(), 2, false, s);
+  h5::write_double_attribute(g.get(), "spacing", &h, 1, true, s);
+  h5::write_int64_attribute(g.get(), "nodes_x", nx, s);
+  h5::write_int64_attribute(g.get(), "nodes_y", ny, s);
+  std::vector<double> mass, stress;
+  mass.reserve(static_cast<std::size_t>(nx * ny));
+  stress.reserve(static_cast<std::size_t>(6 * nx * ny));
+  for (Index j = 0; j < ny; ++j)
+    for (Index i = 0; i < nx; ++i) {
+      const auto node = static_cast<std::size_t>(grid.node_id({i, j}));
+      mass.push_back(r.node_mass[node]);
+      stress.insert(stress.end(), r.node_stress[node].data(), r.node_stress[node].data() + 6);
+    }
+  const auto hx = static_cast<hsize_t>(nx), hy = static_cast<hsize_t>(ny);
+  write_array(g.get(), name, h5::kGridMass, {1, hy, hx}, mass, file);
+  write_array(g.get(), name, h5::kGridStress, {1, hy, hx, 6}, stress, file);
+}
+
+/// The voxels/ group: 4 corners per particle and the pattern colours.
+void write_voxels_group(hid_t frame, const std::string& frame_name, const Voxels& v,
+                        const std::filesystem::path& file) {
+  const std::string name = frame_name + "/" + h5::kVoxelsGroup;
+  const Site s{file, name};
+  Handle g = h5::group_handle(
+      H5Gcreate2(frame, h5::kVoxelsGroup, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
+  std::vector<double> corners;
+  corners.reserve(8 * v.corners.size());
+  for (const auto& quad : v.corners)
+    for (const Vec2& c : quad) {
+      corners.push_back(c.x());
+      corners.push_back(c.y());
+    }
+  const auto n = static_cast<hsize_t>(v.corners.size());
+  write_dataset(g.get(), name, h5::kVoxelCorners, 4 * n, corners, file);
+  write_dataset(g.get(), name, h5::kChecker, n, v.checker, file);
+  write_dataset(g.get(), name, h5::kStripesHorizontal, n, v.stripes_horizontal, file);
+  write_dataset(g.get(), name, h5::kStripesVertical, n, v.stripes_vertical, file);
 }
 
 void check_size(std::size_t size, Index n, const char* what) {
@@ -178,7 +246,7 @@ ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
 }
 
 void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
-                                const std::vector<OutputField>& fields) {
+                                const std::vector<OutputField>& fields, const FramePost& post) {
   h5::quiet();
   const Index n = p.size();
   const auto datasets = h5::frame_datasets(fields);
@@ -199,6 +267,10 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
     else if (name == "body")
       check_size(p.body.size(), n, "body");
   }
+  if (post.stress)
+    check_size(post.stress->smoothed_stress.size(), n, "smoothed stress");
+  if (post.voxels)
+    check_size(post.voxels->corners.size(), n, "voxel corners");
 
   const auto& f = h5_path_;
   const std::string gname = h5::frame_group_name(frames_);
@@ -248,19 +320,28 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
           buf.insert(buf.end(), row, row + 9);
         }
       } else if (name == "stress") {
-        for (std::size_t i = 0; i < un; ++i) {
-          const Mat3& s = p.stress[i];
-          const double t6[6] = {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
-          buf.insert(buf.end(), t6, t6 + 6);
-        }
+        for (std::size_t i = 0; i < un; ++i)
+          append_tensor6(buf, p.stress[i]);
       }
       write_dataset(g.get(), gname, d, hn, buf, f);
     }
+    if (post.stress) {
+      std::vector<double> buf;
+      buf.reserve(6 * un);
+      for (const SymmetricStress& s : post.stress->smoothed_stress) // already Tensor6 order
+        buf.insert(buf.end(), s.data(), s.data() + 6);
+      write_dataset(g.get(), gname, h5::kStressSmoothed, hn, buf, f);
+      write_grid_group(g.get(), gname, *post.stress, f);
+      grid_nodes_ = {post.stress->grid.cells(0) + 1, post.stress->grid.cells(1) + 1};
+    }
+    if (post.voxels)
+      write_voxels_group(g.get(), gname, *post.voxels, f);
   }
-  ensure_vertex_ids(file.get(), static_cast<hsize_t>(n), f);
+  // Voxels use 0 .. 4N-1 as their quadrilateral connectivity (run.xmf).
+  ensure_vertex_ids(file.get(), static_cast<hsize_t>(post.voxels ? 4 * n : n), f);
   h5::check_status(file.close(), "H5Fclose", gname, f);
 
-  frame_info_.push_back({step, time, n, fields});
+  frame_info_.push_back({step, time, n, fields, post.stress != nullptr, post.voxels != nullptr});
   ++frames_;
   write_xdmf();
 }

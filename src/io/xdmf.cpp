@@ -50,45 +50,70 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
+std::string attribute(const std::string& name, const char* type, const char* center,
+                      const std::string& item) {
+  return fmt::format("        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n"
+                     "          {}\n"
+                     "        </Attribute>\n",
+                     name, type, center, item);
+}
+
+/// Opening of one time step's grid: name, time and solver step.
+std::string frame_header(std::size_t k, double time, Index step) {
+  return fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n"
+                     "        <Time Value=\"{:.17g}\"/>\n"
+                     "        <Information Name=\"step\" Value=\"{}\"/>\n",
+                     k, time, step);
+}
+
+/// Connectivity 0, 1, ..., count - 1 as a hyperslab of /xdmf/vertex_ids (length ids_length).
+std::string vertex_ids(const std::string& dims, Index count, Index ids_length,
+                       const std::string& h5) {
+  return fmt::format("          <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\" "
+                     "Type=\"HyperSlab\">\n"
+                     "            <DataItem Dimensions=\"3 1\" Format=\"XML\">0 1 {}</DataItem>\n"
+                     "            <DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"8\" "
+                     "Format=\"HDF\">{}:{}</DataItem>\n"
+                     "          </DataItem>\n",
+                     dims, count, ids_length, h5, h5::kVertexIds);
+}
+
 } // namespace
 
 void ResultsWriter::write_xdmf() const {
   // run.h5 is referenced by its bare name: XDMF readers resolve it relative to run.xmf, so the
   // results folder can be moved or copied as a whole.
   const std::string h5 = h5_path_.filename().string();
-  Index max_n = 0;
-  for (const auto& fr : frame_info_)
-    max_n = std::max(max_n, fr.particles);
+  Index ids_length = 0; // the length of /xdmf/vertex_ids
+  bool any_voxels = false, any_grid = false;
+  for (const auto& fr : frame_info_) {
+    ids_length = std::max(ids_length, fr.voxels ? 4 * fr.particles : fr.particles);
+    any_voxels = any_voxels || fr.voxels;
+    any_grid = any_grid || fr.recovered;
+  }
+  const std::string case_name =
+      xml_escape(metadata_.case_name.empty() ? "particles" : metadata_.case_name);
 
   std::string x;
   x += "<?xml version=\"1.0\" ?>\n";
-  x += "<!-- Talus particle frames; layout documented in docs/output-format.md -->\n";
+  x += "<!-- Talus frames: particles, then deformed voxels and grid fields when the case writes "
+       "them; layout documented in docs/output-format.md -->\n";
   x += "<Xdmf Version=\"3.0\">\n";
   x += "  <Domain>\n";
   x += fmt::format("    <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-                   xml_escape(metadata_.case_name.empty() ? "particles" : metadata_.case_name));
+                   case_name);
   for (std::size_t k = 0; k < frame_info_.size(); ++k) {
     const auto& fr = frame_info_[k];
     const std::string g = h5::frame_group_name(static_cast<long long>(k));
     const Index n = fr.particles;
-    x += fmt::format("      <Grid Name=\"frame_{:06d}\" GridType=\"Uniform\">\n", k);
-    x += fmt::format("        <Time Value=\"{:.17g}\"/>\n", fr.time);
-    x += fmt::format("        <Information Name=\"step\" Value=\"{}\"/>\n", fr.step);
+    x += frame_header(k, fr.time, fr.step);
     // Explicit connectivity (a hyperslab 0..N-1 of /xdmf/vertex_ids): vtkXdmf3Reader builds
     // no cells for a Polyvertex topology without it, vtkXdmfReader builds N vertex cells
     // either way.
     x += fmt::format("        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
                      "NodesPerElement=\"1\">\n",
                      n);
-    x += fmt::format("          <DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\" "
-                     "Type=\"HyperSlab\">\n",
-                     n);
-    x += fmt::format("            <DataItem Dimensions=\"3 1\" Format=\"XML\">0 1 {}</DataItem>\n",
-                     n);
-    x += fmt::format("            <DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"8\" "
-                     "Format=\"HDF\">{}:{}</DataItem>\n",
-                     max_n, h5, h5::kVertexIds);
-    x += "          </DataItem>\n";
+    x += vertex_ids(std::to_string(n), n, ids_length, h5);
     x += "        </Topology>\n";
     x += "        <Geometry GeometryType=\"XY\">\n";
     x += "          " + data_item(h5, g + "/position", n, 2, false) + "\n";
@@ -96,14 +121,87 @@ void ResultsWriter::write_xdmf() const {
     for (const auto& d : h5::frame_datasets(fr.fields)) {
       if (*d.xdmf_type == '\0')
         continue; // position is the geometry
-      x += fmt::format("        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
-                       d.name, d.xdmf_type);
-      x += "          " + data_item(h5, g + "/" + d.name, n, d.columns, d.integer) + "\n";
-      x += "        </Attribute>\n";
+      x += attribute(d.name, d.xdmf_type, "Node",
+                     data_item(h5, g + "/" + d.name, n, d.columns, d.integer));
     }
+    if (fr.recovered)
+      x += attribute(h5::kStressSmoothed.name, "Tensor6", "Node",
+                     data_item(h5, g + "/" + h5::kStressSmoothed.name, n, 6, false));
     x += "      </Grid>\n";
   }
   x += "    </Grid>\n";
+
+  if (any_voxels) {
+    // Each voxel is a quadrilateral cell; the particle datasets are its cell data.
+    x += fmt::format("    <Grid Name=\"{}_voxels\" GridType=\"Collection\" "
+                     "CollectionType=\"Temporal\">\n",
+                     case_name);
+    for (std::size_t k = 0; k < frame_info_.size(); ++k) {
+      const auto& fr = frame_info_[k];
+      if (!fr.voxels)
+        continue;
+      const std::string g = h5::frame_group_name(static_cast<long long>(k));
+      const std::string v = g + "/" + h5::kVoxelsGroup;
+      const Index n = fr.particles;
+      x += frame_header(k, fr.time, fr.step);
+      x += fmt::format(
+          "        <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">\n", n);
+      x += vertex_ids(fmt::format("{} 4", n), 4 * n, ids_length, h5);
+      x += "        </Topology>\n";
+      x += "        <Geometry GeometryType=\"XY\">\n";
+      x += "          " + data_item(h5, v + "/corners", 4 * n, 2, false) + "\n";
+      x += "        </Geometry>\n";
+      for (const auto& d : h5::frame_datasets(fr.fields)) {
+        if (*d.xdmf_type == '\0')
+          continue;
+        x += attribute(d.name, d.xdmf_type, "Cell",
+                       data_item(h5, g + "/" + d.name, n, d.columns, d.integer));
+      }
+      if (fr.recovered)
+        x += attribute(h5::kStressSmoothed.name, "Tensor6", "Cell",
+                       data_item(h5, g + "/" + h5::kStressSmoothed.name, n, 6, false));
+      for (const auto& d : {h5::kChecker, h5::kStripesHorizontal, h5::kStripesVertical})
+        x += attribute(d.name, d.xdmf_type, "Cell", data_item(h5, v + "/" + d.name, n, 0, true));
+      x += "      </Grid>\n";
+    }
+    x += "    </Grid>\n";
+  }
+
+  if (any_grid) {
+    // The physical grid nodes as a structured mesh. A 3DCoRectMesh one node thick: both VTK
+    // XDMF readers map a 2DCoRectMesh onto the wrong axes. XDMF lists dimensions, origin and
+    // spacing slowest first (z, y, x).
+    const Index nx = grid_nodes_[0], ny = grid_nodes_[1];
+    const double h = metadata_.cell_size;
+    x += fmt::format("    <Grid Name=\"{}_grid\" GridType=\"Collection\" "
+                     "CollectionType=\"Temporal\">\n",
+                     case_name);
+    for (std::size_t k = 0; k < frame_info_.size(); ++k) {
+      const auto& fr = frame_info_[k];
+      if (!fr.recovered)
+        continue;
+      const std::string gg = h5::frame_group_name(static_cast<long long>(k)) + "/" + h5::kGridGroup;
+      x += frame_header(k, fr.time, fr.step);
+      x += fmt::format("        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"1 {} {}\"/>\n",
+                       ny, nx);
+      x += "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+      x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                       "Format=\"XML\">0 {:.17g} {:.17g}</DataItem>\n",
+                       metadata_.grid_origin.y(), metadata_.grid_origin.x());
+      x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                       "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
+                       h, h, h);
+      x += "        </Geometry>\n";
+      for (const auto& d : {h5::kGridMass, h5::kGridStress})
+        x += attribute(d.name, d.xdmf_type, "Node",
+                       fmt::format("<DataItem Dimensions=\"1 {} {}{}\" NumberType=\"Float\" "
+                                   "Precision=\"8\" Format=\"HDF\">{}:{}/{}</DataItem>",
+                                   ny, nx, d.columns ? fmt::format(" {}", d.columns) : "", h5, gg,
+                                   d.name));
+      x += "      </Grid>\n";
+    }
+    x += "    </Grid>\n";
+  }
   x += "  </Domain>\n";
   x += "</Xdmf>\n";
 

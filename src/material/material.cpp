@@ -3,6 +3,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/material/hyperelastic.hpp"
+#include "talus/material/plastic_material.hpp"
 #include "talus/material/principal_space.hpp"
 
 #include <cmath>
@@ -13,6 +14,20 @@ namespace talus {
 
 double Material::wave_speed() const {
   return std::sqrt(lame_.p_wave_modulus() / density_);
+}
+
+void Material::plastic_strain(std::span<const Index> ids, std::span<double> out) const {
+  for (const Index p : ids)
+    out[static_cast<std::size_t>(p)] = 0.0;
+}
+
+void Material::set_initial_stress(std::span<const Index> ids, std::span<const Mat3>) {
+  if (!ids.empty())
+    throw InputError(SourceLocation{},
+                     fmt::format("material '{}': an initial stress needs a model with an elastic "
+                                 "strain state (von_mises, tresca, mohr_coulomb, drucker_prager); "
+                                 "an elastic model's stress follows from F alone",
+                                 name()));
 }
 
 namespace {
@@ -87,6 +102,14 @@ std::unique_ptr<Material> make_material(const MaterialSpec& spec) {
     return std::make_unique<NeoHookean>(spec.name, spec.density, lame);
   case MaterialModel::Hencky:
     return std::make_unique<Hencky>(spec.name, spec.density, lame);
+  case MaterialModel::VonMises:
+  case MaterialModel::Tresca:
+  case MaterialModel::MohrCoulomb:
+  case MaterialModel::DruckerPrager:
+    return std::make_unique<PlasticMaterial>(
+        spec.name, spec.density, lame, make_plastic_model(spec),
+        spec.small_strain ? Kinematics::SmallStrain : Kinematics::FiniteStrain,
+        !nonsymmetric_tangent(spec));
   }
   throw std::logic_error("unknown material model");
 }

@@ -116,7 +116,7 @@ private:
     });
   }
 
-  // Internal force -sum V sigma grad(N) plus external point forces and gravity.
+  // Internal force -sum V sigma grad(N) plus external point forces, gravity and tractions.
   void gather_forces() {
     const auto& P = scene_.particles;
     const V g = scene_.spec.gravity;
@@ -132,6 +132,10 @@ private:
       });
       force_[at(n)] = f;
     });
+    for (const SurfaceLoad& load : scene_.surface_loads)
+      for_each_surface_load_node(scene_.grid, P, load, map_.stencil(load.particle).start,
+                                 Shape::kWidth,
+                                 [&](Index n, double w) { force_[at(n)] += w * load.force; });
   }
 
   void constrain(Index n, V& vec) const {

@@ -2,7 +2,9 @@
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/linalg/sparse_assembler.hpp"
 #include "talus/shape/shape_functions.hpp"
+#include "talus/solver/ghost_penalty.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,10 +18,8 @@ namespace {
 // Nodes whose mass is below this fraction of the heaviest node's carry no material in any
 // meaningful sense (round-off of a support edge); their increments are held at zero. The
 // threshold is deliberately tiny: holding nodes with a real share of a point's support
-// stiffens the body (measured: a bent cantilever at 1 % lost 90 % of its deflection), while
-// keeping them costs conditioning. A proper remedy for small-support nodes (ghost
-// stabilisation, Coombs 2023) is future work; until then a singular tangent stops the run
-// with a clear message instead of returning a stiffened answer.
+// stiffens the body (measured: a bent cantilever at 1 % lost 90 % of its deflection). Nodes
+// with a small share are kept and stabilised by the ghost penalty (ghost_penalty.hpp).
 constexpr double kImplicitTinyNodeMassFraction = 1e-10;
 
 // Newton's tolerance is never set below this multiple of the stress round-off force.
@@ -35,18 +35,33 @@ template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, N
 public:
   explicit ImplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
     double modulus = 0;
-    for (const auto& m : scene.materials)
+    for (const auto& m : scene.materials) {
       modulus = std::max(modulus, m->lame().p_wave_modulus());
+      material_young_.push_back(m->lame().young_modulus());
+    }
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
+    const bool symmetric = std::all_of(scene.materials.begin(), scene.materials.end(),
+                                       [](const auto& m) { return m->symmetric_tangent(); });
+    // Non-associated flow and softening make the tangent nonsymmetric: Cholesky cannot take
+    // it, LU can (the case reader refuses an explicit symmetric-only choice).
+    const std::string& chosen = scene.spec.solver.linear_solver;
+    const std::string name = !chosen.empty() ? chosen : symmetric ? "cholmod" : "umfpack";
     LinearSolverKind kind;
-    if (!parse_linear_solver_kind(scene.spec.solver.linear_solver, kind))
-      throw std::invalid_argument("unknown linear solver " + scene.spec.solver.linear_solver);
+    if (!parse_linear_solver_kind(name, kind))
+      throw std::invalid_argument("unknown linear solver " + name);
     LinearSolverOptions options;
     options.kind = kind;
     linear_ = make_linear_solver(options);
     const auto np = static_cast<std::size_t>(scene.particles.size());
     trial_F_.assign(np, Mat3::Identity());
     dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
+    // A geostatic initial stress already balances the full weight: gravity then acts in full
+    // from the first step, and only the other loads follow the load factor.
+    gravity_ramped_ =
+        std::none_of(scene.spec.bodies.begin(), scene.spec.bodies.end(), [](const auto& b) {
+          return b.initial_stress &&
+                 b.initial_stress->kind == BodySpec::InitialStress::Kind::Geostatic;
+        });
     if (dynamic_)
       scene.particles.acceleration.assign(np, V::Zero());
     response_.resize(np);
@@ -57,6 +72,7 @@ public:
   NewtonReport step(double lambda_end, double ramp_end, double dt) override {
     dt_ = dt;
     prepare_step(lambda_end, ramp_end);
+    scale_by_prescribed_motion();
     NewtonOptions options;
     options.residual_scale = force_scale_;
     // The stress carries an absolute round-off of about eps * E (the strain comes from F - I),
@@ -132,6 +148,10 @@ public:
         }
       });
     }
+    for_each_ghost_force(du, [&](Index n, int a, double f) {
+      if (const Index dof = dof_of(n, a); dof >= 0)
+        r[dof] += f;
+    });
     return true;
   }
 
@@ -139,7 +159,8 @@ public:
     if (!state_matches(du) && !update_trial_state(du))
       throw NumericalError("material update failed while assembling the tangent");
     const auto& P = scene_.particles;
-    triplets_.clear();
+    assembler_.begin(dof_count_, /*new_structure=*/!structure_recorded_);
+    structure_recorded_ = true;
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       const Eigen::Matrix<double, 4, 4> A = step_tangent(s);
@@ -168,22 +189,33 @@ public:
               for (int b = 0; b < Dim; ++b)
                 for (int d = 0; d < Dim; ++d)
                   value += A(2 * a + b, 2 * c + d) * gi[b] * gj[d];
-              triplets_.emplace_back(static_cast<int>(row), static_cast<int>(col),
-                                     P.volume0[s] * value);
+              assembler_.add(row, col, P.volume0[s] * value);
             }
         }
     }
+    const auto& G = GhostPenalty::face_matrix();
+    for (const auto& face : ghost_.faces())
+      for (int i = 0; i < GhostPenalty::kFaceNodes; ++i)
+        for (int j = 0; j < GhostPenalty::kFaceNodes; ++j)
+          for (int a = 0; a < Dim; ++a) {
+            const Index row = dof_of(face.nodes[at(i)], a), col = dof_of(face.nodes[at(j)], a);
+            if (row >= 0 && col >= 0)
+              assembler_.add(row, col, face.stiffness * G(i, j));
+          }
     if (dynamic_)
       for (Index dof = 0; dof < dof_count_; ++dof)
-        triplets_.emplace_back(static_cast<int>(dof), static_cast<int>(dof),
-                               4.0 * dof_mass_[at(dof)] / (dt_ * dt_));
-    K_.resize(static_cast<Eigen::Index>(dof_count_), static_cast<Eigen::Index>(dof_count_));
-    K_.setFromTriplets(triplets_.begin(), triplets_.end());
-    K_.makeCompressed();
-    pattern_changed_ = !same_sparsity_pattern(K_, previous_pattern_);
-    if (pattern_changed_)
-      previous_pattern_ = K_;
-    return K_;
+        assembler_.add(dof, dof, 4.0 * dof_mass_[at(dof)] / (dt_ * dt_));
+    const SparseMatrix& K = assembler_.finish();
+    // Within a step the connectivity is fixed; a new step keeps the symbolic factorisation
+    // when its pattern happens to match the last analysed one.
+    if (assembler_.recorded()) {
+      pattern_changed_ = !same_sparsity_pattern(K, previous_pattern_);
+      if (pattern_changed_)
+        previous_pattern_ = K;
+    } else {
+      pattern_changed_ = false;
+    }
+    return K;
   }
 
   bool pattern_changed() const override { return pattern_changed_; }
@@ -194,6 +226,20 @@ private:
     return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
   }
   Index dof_of(Index node, int a) const { return node_dof_[at(2 * node + a)]; }
+  /// Calls f(node, component, force) with the ghost-penalty forces G du of every stabilised
+  /// face (prescribed components enter with their increments, held ones as zero).
+  template <class F> void for_each_ghost_force(const Eigen::VectorXd& du, F&& f) const {
+    const auto& G = GhostPenalty::face_matrix();
+    for (const auto& face : ghost_.faces()) {
+      Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> u;
+      for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+        u.row(k) = node_increment(face.nodes[at(k)], du).transpose();
+      const Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> forces = face.stiffness * G * u;
+      for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+        for (int a = 0; a < Dim; ++a)
+          f(face.nodes[at(k)], a, forces(k, a));
+    }
+  }
   /// The increment of node n: unknowns from du, prescribed components from the ramp, zero for
   /// held components.
   V node_increment(Index n, const Eigen::VectorXd& du) const {
@@ -218,6 +264,8 @@ private:
       node_mass_[at(n)] = m;
       heaviest = std::max(heaviest, m);
     }
+    if (!scene_.spec.prescribed.empty())
+      locate_prescribed_nodes(scene_, ramp_committed_);
     node_dof_.assign(2 * nn, -1);
     prescribed_du_.assign(2 * nn, 0.0);
     dof_count_ = 0;
@@ -238,6 +286,7 @@ private:
         node_dof_[at(2 * n + a)] = dof_count_++;
       }
     }
+    prepare_ghost_penalty(heaviest);
     if (dynamic_) {
       // Lumped mass and the mass-weighted projections of the particles' velocity and
       // acceleration, per unknown.
@@ -265,16 +314,16 @@ private:
     const V g = scene_.spec.gravity;
     force_scale_ = 0;
     for (Index p = 0; p < P.size(); ++p) {
-      const V f = lambda_end * (P.external_force[at(p)] + P.mass[at(p)] * g);
+      const V f = lambda_end * P.external_force[at(p)] +
+                  (gravity_ramped_ ? lambda_end : 1.0) * P.mass[at(p)] * g;
       force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
-      map_.for_each_node_of(p, [&](Index n, double w, const V&) {
-        for (int a = 0; a < Dim; ++a) {
-          full_external_[at(2 * n + a)] += w * f[a];
-          const Index dof = dof_of(n, a);
-          if (dof >= 0)
-            external_[dof] += w * f[a];
-        }
-      });
+      map_.for_each_node_of(p, [&](Index n, double w, const V&) { add_external(n, w * f); });
+    }
+    for (const SurfaceLoad& load : scene_.surface_loads) {
+      const V f = (load.constant ? 1.0 : lambda_end) * load.force;
+      force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
+      for_each_surface_load_node(scene_.grid, P, load, map_.stencil(load.particle).start,
+                                 Shape::kWidth, [&](Index n, double w) { add_external(n, w * f); });
     }
     if (dynamic_) // inertia sets the force level too: m (|v| / dt + |a|)
       for (Index p = 0; p < P.size(); ++p)
@@ -288,6 +337,46 @@ private:
       force_scale_ = 1e-6 * modulus * scene_.grid.cell_size();
     }
     state_du_.resize(0);
+    structure_recorded_ = false;
+  }
+
+  // A step driven by prescribed displacements (a footing pushed into weightless soil) has its
+  // force level set by the reactions they cause, not by the loads: the residual of the
+  // unknowns at zero increment, which the prescribed increment alone produces. Without this the
+  // tolerance would be relative to the no-load fallback and ask for digits nobody needs.
+  void scale_by_prescribed_motion() {
+    if (dof_count_ == 0 ||
+        std::none_of(prescribed_du_.begin(), prescribed_du_.end(), [](double u) { return u != 0; }))
+      return;
+    Eigen::VectorXd r;
+    if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dof_count_)), r))
+      force_scale_ = std::max(force_scale_, r.lpNorm<Eigen::Infinity>());
+  }
+
+  // The faces the ghost penalty stabilises at this step's configuration.
+  void prepare_ghost_penalty(double heaviest_node) {
+    const double gamma = scene_.spec.solver.ghost_penalty;
+    if (gamma <= 0.0)
+      return;
+    const auto nn = static_cast<std::size_t>(scene_.grid.node_count());
+    node_active_.assign(nn, 0);
+    node_modulus_.assign(nn, 0.0);
+    for (const Index n : map_.active_nodes()) {
+      node_active_[at(n)] = node_mass_[at(n)] >= kImplicitTinyNodeMassFraction * heaviest_node;
+      map_.for_each_particle_of(n, [&](Index p, double, const V&) {
+        const double E = material_young_[at(scene_.particles.material[at(p)])];
+        node_modulus_[at(n)] = std::max(node_modulus_[at(n)], E);
+      });
+    }
+    ghost_.build(scene_.grid, node_active_, node_modulus_, gamma);
+  }
+
+  void add_external(Index n, const V& f) {
+    for (int a = 0; a < Dim; ++a) {
+      full_external_[at(2 * n + a)] += f[a];
+      if (const Index dof = dof_of(n, a); dof >= 0)
+        external_[dof] += f[a];
+    }
   }
 
   // dF and F at the trial increment, and the material response there.
@@ -390,6 +479,9 @@ private:
         P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
       }
     }
+    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+      scene_.materials[m]->commit(scene_.particles_of_material[m]);
+    for_each_ghost_force(du, [&](Index n, int a, double f) { internal[at(2 * n + a)] += f; });
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec2::Zero());
     for (const Index n : map_.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
@@ -420,6 +512,10 @@ private:
   std::unique_ptr<LinearSolver> linear_;
   std::vector<double> node_mass_;
   std::vector<Index> node_dof_;
+  std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
+  GhostPenalty ghost_;
+  std::vector<char> node_active_;    ///< per node: carries mass this step (ghost penalty)
+  std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)
   Index dof_count_ = 0;
   Eigen::VectorXd external_;
   std::vector<double> full_external_;
@@ -428,13 +524,14 @@ private:
   std::vector<Mat3> trial_F_;
   std::vector<StressTangent> response_;
   Eigen::VectorXd state_du_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  SparseMatrix K_;
-  SparseMatrix previous_pattern_; ///< the last tangent whose pattern was analysed
+  SparseAssembler assembler_;
+  bool structure_recorded_ = false; ///< the assembler holds this step's structure
+  SparseMatrix previous_pattern_;   ///< the last tangent whose pattern was analysed
   bool pattern_changed_ = true;
   std::array<Vec2, kFaceCount> reactions_{};
   double seconds_particle_update_ = 0;
   bool dynamic_ = false;
+  bool gravity_ramped_ = true;        ///< gravity follows the load factor (no geostatic stress)
   std::vector<double> prescribed_du_; ///< per (node, component): this step's increment
   double ramp_committed_ = 0;         ///< prescribed-displacement fraction reached so far
   std::vector<Vec2> prescribed_reactions_;

@@ -4,6 +4,8 @@
 #include "talus/core/scene.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
+#include "talus/post/stress_recovery.hpp"
+#include "talus/post/voxels.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
 
@@ -13,6 +15,7 @@
 #include <csignal>
 #include <fmt/format.h>
 #include <omp.h>
+#include <optional>
 
 namespace talus {
 
@@ -114,6 +117,30 @@ struct Recorder {
   double frame_interval;
   double next_frame_time;
   bool frame_at_current_step = true;
+  double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
+  std::optional<StressRecovery> recovery{}; ///< made on the first frame, reused by the others
+  Voxels voxels{};
+
+  /// Writes the current state as a frame, with the post-processing fields the case asks for:
+  /// they are computed here, on output frames only.
+  void write_frame(Index step, double t) {
+    const OutputSpec& out = scene.spec.output;
+    const auto start = std::chrono::steady_clock::now();
+    FramePost post;
+    if (out.stress_recovery) {
+      if (!recovery)
+        recovery.emplace(scene.grid, scene.spec.solver.shape);
+      post.stress = &recovery->recover(scene.particles);
+    }
+    if (out.voxels) {
+      update_voxels(scene.particles, scene.grid.origin(),
+                    out.pattern_size.value_or(scene.grid.cell_size()), voxels);
+      post.voxels = &voxels;
+    }
+    post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writer.write_frame(step, t, scene.particles, out.fields, post);
+    frame_at_current_step = true;
+  }
 
   /// The end of the next step: the end time or the next frame time, whichever comes first.
   double target(double end_time) const {
@@ -128,8 +155,7 @@ struct Recorder {
     const bool due =
         out.every_steps ? (step % *out.every_steps == 0) : (t >= next_frame_time * (1.0 - 1e-12));
     if (due) {
-      writer.write_frame(step, t, scene.particles, out.fields);
-      frame_at_current_step = true;
+      write_frame(step, t);
       while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
         next_frame_time += frame_interval;
     }
@@ -138,8 +164,7 @@ struct Recorder {
   /// Makes sure the state the run ends in is a frame.
   void final_frame(Index step, double t) {
     if (!frame_at_current_step)
-      writer.write_frame(step, t, scene.particles, scene.spec.output.fields);
-    frame_at_current_step = true;
+      write_frame(step, t);
   }
 };
 
@@ -329,7 +354,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   LoopState state;
   result.status = "completed";
   result.particles = scene.particles.size();
-  writer.write_frame(0, 0.0, scene.particles, out.fields);
+  recorder.write_frame(0, 0.0);
   try {
     if (spec.analysis == AnalysisType::Explicit)
       run_explicit(scene, recorder, state, result);
@@ -346,6 +371,8 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     result.message = fmt::format("step {}, t = {:g}: {}", state.step + 1, state.t, err.what());
     result.exit_code = kExitNumerical;
   }
+  if (out.stress_recovery || out.voxels)
+    result.extra["seconds_post_processing"] = recorder.post_seconds;
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 

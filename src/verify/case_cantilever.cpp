@@ -1,15 +1,25 @@
-// The reference talk's cantilever (L = 8, D = 1, E = 3e5, nu = 0), implicit quasi-static.
+// The reference talk's cantilever (L = 8, D = 1, E = 3e5, nu = 0), implicit quasi-static; the
+// tip load is a traction on the end face (applied at the face, see grid/surface_load.hpp).
 //  * Linear range, tip shear load P = 1: the mean vertical displacement of the tip column of
 //    points against Timoshenko & Goodier, u_y(x) = -P / (6 E I) (D^2 x + (3L - x) x^2) for
-//    nu = 0 (y-independent), at 4, 8 and 16 cells through the depth. The bound is 1 %
-//    at 4 or more cells; it is checked at 8 cells (at 4 the measured error is 1.8 %, mostly
-//    the clamped root, which the analytical solution leaves free to warp). The error must
-//    fall under refinement; the observed order is reported.
-//  * Moderately large deflection, Hencky material, dead tip load with P L^2 / (E I) = 0.25:
-//    tip displacements against the elastica (theta'' = -alpha cos(theta), solved here by
-//    shooting with RK4 to 1e-10), within 2 %. Newton must converge quadratically: on every
-//    load step the last iterate above the round-off floor satisfies
-//    log r_{k+1} / log r_k >= 1.8.
+//    nu = 0 (y-independent), at 4, 8 and 16 cells through the depth; within 1 % at 8 cells.
+//    Measured errors 0.72 %, 0.06 %, 0.10 %: beyond 8 cells the error is the model difference
+//    of the fully clamped root (the analytical solution lets the root section warp), not a
+//    discretisation error, so convergence is checked on the deflections themselves: successive
+//    differences must shrink (|u16 - u8| < |u8 - u4|), with the observed order reported.
+//  * Large deflection, Hencky material, dead tip load P L^2 / (E I) = alpha: the displacement
+//    of the tip column of points against the elastica (theta'' = -alpha cos(theta), solved by
+//    shooting with RK4) at the same arclength, within 2 %; at alpha = 0.25 (10 load steps, the
+//    talk's section) and alpha = 2 (50 load steps; the tip sweeps across dozens of cells and the
+//    ghost penalty keeps the tangent regular). The elastica is inextensible and shear-rigid,
+//    which a thick continuum beam is not: at L/D = 8 and alpha = 2 the measured deflection lies
+//    2.2 % above it at 8 and at 16 cells, refinement does not remove it, and a Reissner beam with
+//    shear flexibility accounts for about half. So alpha = 2 runs on a beam of half the depth
+//    (L/D = 16, references::kSlenderBeamDepth), where shear and fibre strain are 4x and 2x
+//    smaller. Newton must converge quadratically at alpha = 0.25: on every load step the last
+//    iterate above the round-off floor satisfies log r_{k+1} / log r_k >= 1.8 (at alpha = 2 the
+//    beam is so compliant that the quadratic constant is large and this scale-dependent measure
+//    does not apply); at alpha = 2 at most 6 Newton iterations per load step.
 #include "cases.hpp"
 #include "references.hpp"
 
@@ -26,39 +36,6 @@ using references::kBeamDepth;
 using references::kBeamInertia;
 using references::kBeamLength;
 using references::kBeamYoung;
-
-struct Elastica {
-  double u_over_L; ///< horizontal shortening of the tip
-  double v_over_L; ///< vertical tip deflection
-};
-
-// theta'' = -alpha cos(theta) on s in [0, 1], theta(0) = 0, theta'(1) = 0 (free end).
-Elastica elastica(double alpha) {
-  auto shoot = [alpha](double k0, double& x, double& y) {
-    const int n = 4000;
-    const double h = 1.0 / n;
-    double th = 0, k = k0;
-    x = y = 0;
-    for (int i = 0; i < n; ++i) {
-      const double t1 = th, k1 = k;
-      const double t2 = th + 0.5 * h * k1, k2 = k - 0.5 * h * alpha * std::cos(t1);
-      const double t3 = th + 0.5 * h * k2, k3 = k - 0.5 * h * alpha * std::cos(t2);
-      const double t4 = th + h * k3, k4 = k - h * alpha * std::cos(t3);
-      x += h / 6 * (std::cos(t1) + 2 * std::cos(t2) + 2 * std::cos(t3) + std::cos(t4));
-      y += h / 6 * (std::sin(t1) + 2 * std::sin(t2) + 2 * std::sin(t3) + std::sin(t4));
-      th += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      k -= h / 6 * alpha * (std::cos(t1) + 2 * std::cos(t2) + 2 * std::cos(t3) + std::cos(t4));
-    }
-    return k; // theta'(1)
-  };
-  double lo = 0, hi = alpha, x = 0, y = 0;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (shoot(mid, x, y) > 0 ? hi : lo) = mid;
-  }
-  shoot(0.5 * (lo + hi), x, y);
-  return {1.0 - x, y};
-}
 
 // The smallest log-ratio over the load steps in newton.log, counting only iterates above the
 // round-off floor and below 1e-2 (where the quadratic regime has started).
@@ -91,14 +68,14 @@ VerificationCase cantilever() {
   vc.name = "cantilever";
   vc.description =
       "The talk's cantilever (L = 8, D = 1, E = 3e5, nu = 0), implicit quasi-static with GIMP: "
-      "tip deflection in the linear range against Timoshenko-Goodier under refinement, and a "
-      "moderately large deflection (P L^2 / EI = 0.25, Hencky) against the elastica with "
-      "Newton's convergence order.";
+      "tip deflection in the linear range against Timoshenko-Goodier under refinement, and "
+      "large deflections (P L^2 / EI = 0.25 and 2, Hencky) against the elastica with Newton's "
+      "convergence order and iteration count.";
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
     std::vector<Check> checks;
     const std::vector<int> depth_cells = {4, 8, 16};
-    std::vector<double> errors;
+    std::vector<double> deflections;
     for (const int n : depth_cells) {
       const double h = kBeamDepth / n;
       const CaseSpec spec = load_verification_case(ctx, {fmt::format("grid.cell_size={:.17g}", h)});
@@ -107,35 +84,55 @@ VerificationCase cantilever() {
       double x = 0;
       const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
       const double reference = references::cantilever_deflection(x, 1.0);
-      errors.push_back(std::abs(u.y() / reference - 1.0));
+      // Scaled to the tip, so that the three resolutions (whose tip columns sit at L - h/4)
+      // compare one quantity.
+      deflections.push_back(u.y() / reference *
+                            references::cantilever_deflection(kBeamLength, 1.0));
       checks.push_back(n == 8 ? relative_check("tip deflection, 8 cells/depth", u.y(), reference,
                                                0.01, "Timoshenko-Goodier at the tip column")
                               : report_only(fmt::format("tip deflection error, {} cells/depth", n),
-                                            errors.back()));
+                                            std::abs(u.y() / reference - 1.0)));
     }
-    for (std::size_t i = 1; i < errors.size(); ++i)
-      checks.push_back(bound_check(
-          fmt::format("error ratio {}/{} cells", depth_cells[i], depth_cells[i - 1]),
-          errors[i] / errors[i - 1], 1.0,
-          fmt::format("observed order {:.2f}; must fall", std::log2(errors[i - 1] / errors[i]))));
+    const double coarse_step = std::abs(deflections[1] - deflections[0]);
+    const double fine_step = std::abs(deflections[2] - deflections[1]);
+    checks.push_back(bound_check("deflection change 8->16 / 4->8 cells", fine_step / coarse_step,
+                                 1.0,
+                                 fmt::format("self-convergence; observed order {:.2f}",
+                                             std::log2(coarse_step / fine_step))));
 
-    const double alpha = 0.25;
-    const double P = alpha * kBeamYoung * kBeamInertia / (kBeamLength * kBeamLength);
-    const CaseSpec large = load_verification_case(
-        ctx, {"materials.beam.model=hencky", fmt::format("tractions[0].traction=[0, {:.17g}]", -P),
-              "time.dt=0.1", "grid.extent=[10, 4]", "grid.origin=[0, -3]"});
-    const auto dir = ctx.out_dir / "elastica";
-    run_quiet(large, dir, ctx.threads);
-    double x = 0;
-    const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
-    const Elastica ref = elastica(alpha);
-    checks.push_back(relative_check("elastica v/L (alpha 0.25)", -u.y() / kBeamLength, ref.v_over_L,
-                                    0.02, "8 cells/depth, Hencky, 10 load steps"));
-    checks.push_back(relative_check("elastica u/L (alpha 0.25)", -u.x() / kBeamLength, ref.u_over_L,
-                                    0.02, "tip shortening"));
-    checks.push_back(minimum_check("Newton order (worst step)",
-                                   worst_newton_order(dir / "newton.log"), 1.8,
-                                   "log r_{k+1} / log r_k in the quadratic regime"));
+    for (const auto& [alpha, steps] : {std::pair{0.25, 10}, std::pair{2.0, 50}}) {
+      // alpha = 0.25 on the talk's section (L/D = 8), alpha = 2 on the slender one (L/D = 16).
+      auto overrides = references::large_deflection_overrides(alpha, steps, 8);
+      if (alpha < 1)
+        overrides.insert(
+            overrides.end(),
+            {"bodies[0].min=[0, -0.5]", "bodies[0].max=[8, 0.5]", "grid.cell_size=0.125",
+             fmt::format("tractions[0].traction=[0, {:.17g}]",
+                         -alpha * kBeamYoung * kBeamInertia / (kBeamLength * kBeamLength))});
+      const CaseSpec large = load_verification_case(ctx, overrides);
+      const auto dir = ctx.out_dir / fmt::format("elastica_alpha_{:g}", alpha);
+      const RunResult run = run_quiet(large, dir, ctx.threads);
+      double x = 0;
+      const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+      const references::Elastica ref = references::elastica(alpha, x / kBeamLength);
+      const std::string note = fmt::format("L/D = {:g}, 8 cells/depth, Hencky, {} load steps",
+                                           alpha < 1 ? 8.0 : 16.0, steps);
+      checks.push_back(relative_check(fmt::format("elastica v/L (alpha {:g})", alpha),
+                                      -u.y() / kBeamLength, ref.v_over_L, 0.02, note));
+      checks.push_back(relative_check(fmt::format("elastica u/L (alpha {:g})", alpha),
+                                      -u.x() / kBeamLength, ref.u_over_L, 0.02,
+                                      "tip shortening, same point"));
+      if (alpha < 1)
+        checks.push_back(minimum_check("Newton order (worst step)",
+                                       worst_newton_order(dir / "newton.log"), 1.8,
+                                       "log r_{k+1} / log r_k in the quadratic regime"));
+      else
+        checks.push_back(bound_check(
+            fmt::format("Newton iterations per step (alpha {:g})", alpha),
+            run.extra.at("newton_iterations_max_per_step"), 6.0,
+            fmt::format("largest; {:g} in all over {} steps, {:g} cut-backs",
+                        run.extra.at("newton_iterations"), steps, run.extra.at("cutbacks"))));
+    }
     return checks;
   };
   return vc;

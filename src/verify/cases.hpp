@@ -13,6 +13,8 @@ VerificationCase rigid_translation();
 VerificationCase rigid_rotation();
 VerificationCase cantilever();
 VerificationCase self_weight_column();
+VerificationCase single_element();
+VerificationCase grashof();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);

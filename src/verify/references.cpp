@@ -32,6 +32,67 @@ Vec2 tip_column_displacement(const ResultsReader& results, double* tip_x) {
   return sum / n;
 }
 
+// theta'' = -alpha cos(theta) on s in [0, 1], theta(0) = 0, theta'(1) = 0 (free end); the
+// displacement of the point at arclength s_end (a multiple of 1/4000 up to round-off).
+Elastica elastica(double alpha, double s_end) {
+  const int n = 4000;
+  const int i_end = static_cast<int>(std::lround(s_end * n));
+  double x_end = 0, y_end = 0;
+  auto shoot = [&](double k0, double& x, double& y) {
+    const double h = 1.0 / n;
+    double th = 0, k = k0;
+    x = y = 0;
+    for (int i = 0; i < n; ++i) {
+      if (i == i_end) {
+        x_end = x;
+        y_end = y;
+      }
+      const double t1 = th, k1 = k;
+      const double t2 = th + 0.5 * h * k1, k2 = k - 0.5 * h * alpha * std::cos(t1);
+      const double t3 = th + 0.5 * h * k2, k3 = k - 0.5 * h * alpha * std::cos(t2);
+      const double t4 = th + h * k3, k4 = k - h * alpha * std::cos(t3);
+      x += h / 6 * (std::cos(t1) + 2 * std::cos(t2) + 2 * std::cos(t3) + std::cos(t4));
+      y += h / 6 * (std::sin(t1) + 2 * std::sin(t2) + 2 * std::sin(t3) + std::sin(t4));
+      th += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      k -= h / 6 * alpha * (std::cos(t1) + 2 * std::cos(t2) + 2 * std::cos(t3) + std::cos(t4));
+    }
+    if (i_end >= n) {
+      x_end = x;
+      y_end = y;
+    }
+    return k; // theta'(1)
+  };
+  double lo = 0, hi = alpha, x = 0, y = 0;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (shoot(mid, x, y) > 0 ? hi : lo) = mid;
+  }
+  shoot(0.5 * (lo + hi), x, y);
+  return {static_cast<double>(i_end) / n - x_end, y_end};
+}
+
+std::vector<std::string> large_deflection_overrides(double alpha, int steps, int depth_cells) {
+  const double D = kSlenderBeamDepth;
+  const double P = alpha * kBeamYoung * (D * D * D / 12.0) / (kBeamLength * kBeamLength);
+  return {"materials.beam.model=hencky",
+          fmt::format("bodies[0].min=[0, {:.17g}]", -0.5 * D),
+          fmt::format("bodies[0].max=[{:.17g}, {:.17g}]", kBeamLength, 0.5 * D),
+          fmt::format("grid.cell_size={:.17g}", D / depth_cells),
+          fmt::format("tractions[0].traction=[0, {:.17g}]", -P / D),
+          fmt::format("time.dt={:.17g}", 1.0 / steps),
+          "grid.extent=[10, 9]",
+          "grid.origin=[0, -8]",
+          "output.every_steps=1000000"};
+}
+
+double large_deflection_error(const ResultsReader& results, double alpha) {
+  double x = 0;
+  const Vec2 u = tip_column_displacement(results, &x);
+  const Elastica ref = elastica(alpha, x / kBeamLength);
+  return std::max(std::abs(-u.x() / kBeamLength / ref.u_over_L - 1.0),
+                  std::abs(-u.y() / kBeamLength / ref.v_over_L - 1.0));
+}
+
 double vibrating_bar_rms_error(const CsvTable& series, double total_mass) {
   const double b1 = std::numbers::pi / (2.0 * kBarLength);
   const double w1 = b1 * std::sqrt(kBarYoung / kBarDensity);

@@ -41,10 +41,11 @@ Check report_only(std::string quantity, double measured, std::string note) {
 
 const std::vector<VerificationCase>& verification_cases() {
   static const std::vector<VerificationCase> cases = {
-      verify_cases::vibrating_bar(),     verify_cases::vibrating_bar_implicit(),
-      verify_cases::colliding_discs(),   verify_cases::rigid_translation(),
-      verify_cases::rigid_rotation(),    verify_cases::cantilever(),
-      verify_cases::self_weight_column()};
+      verify_cases::vibrating_bar(),      verify_cases::vibrating_bar_implicit(),
+      verify_cases::colliding_discs(),    verify_cases::rigid_translation(),
+      verify_cases::rigid_rotation(),     verify_cases::cantilever(),
+      verify_cases::self_weight_column(), verify_cases::grashof(),
+      verify_cases::single_element()};
   return cases;
 }
 

@@ -348,7 +348,9 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
   const std::string text = with(kCase, "youngs_modulus: 1.0e5", "youngs_modolus: 1.0e5");
   expect_error(text, {"case.yaml", 12, 5, "materials[0].youngs_modolus",
                       "unknown key 'youngs_modolus' (allowed keys here: name, model, density, "
-                      "youngs_modulus, poisson_ratio); did you mean 'youngs_modulus'?"});
+                      "youngs_modulus, poisson_ratio, kinematics, yield_stress, "
+                      "hardening_modulus, cohesion, friction_angle, dilation_angle, residual); "
+                      "did you mean 'youngs_modulus'?"});
   // Exact full message (format comes from SourceLocation::to_string()).
   try {
     read_case_text(text, "case.yaml");
@@ -356,7 +358,9 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "case.yaml:12:5: key 'materials[0].youngs_modolus': unknown key "
                            "'youngs_modolus' (allowed keys here: name, model, density, "
-                           "youngs_modulus, poisson_ratio); did you mean 'youngs_modulus'?");
+                           "youngs_modulus, poisson_ratio, kinematics, yield_stress, "
+                           "hardening_modulus, cohesion, friction_angle, dilation_angle, "
+                           "residual); did you mean 'youngs_modulus'?");
   }
 }
 
@@ -539,7 +543,8 @@ TEST(CaseReaderErrors, NonPhysicalValues) {
 TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
   expect_error(with(kCase, "model: linear_elastic", "model: plastic"),
                {"case.yaml", 10, 12, "materials[0].model",
-                "unknown value 'plastic' (allowed: linear_elastic, neo_hookean, hencky)"});
+                "unknown value 'plastic' (allowed: linear_elastic, neo_hookean, hencky, "
+                "von_mises, tresca, mohr_coulomb, drucker_prager)"});
   expect_error(with(kCase, "scheme: usf", "scheme: msul"),
                {"case.yaml", 58, 11, "solver.scheme",
                 "unknown value 'msul' (allowed: usl, usf, musl); did you mean 'musl'?"});
@@ -777,6 +782,22 @@ TEST(CaseReaderErrors, ApicNeedsGimp) {
   const CaseSpec spec =
       read_case_text(kCase, "case.yaml", {"solver.shape=gimp", "solver.transfer=apic"});
   EXPECT_EQ(spec.solver.transfer, TransferScheme::Apic);
+}
+
+// Plastic material keys: a key of another model is refused by name, the model's own checks
+// report at the key they concern, and a symmetric-only linear solver is refused for a
+// nonsymmetric tangent.
+TEST(CaseReaderErrors, PlasticMaterialKeys) {
+  expect_error(with(kCase, "poisson_ratio: 0.3", "poisson_ratio: 0.3\n    cohesion: 1.0e4"),
+               {"case.yaml", 14, 5, "materials[0].cohesion",
+                "'cohesion' does not apply to model 'linear_elastic' (an elastic model)"});
+  const std::string mc = with(kCase, "model: linear_elastic", "model: mohr_coulomb");
+  expect_error(with(mc, "poisson_ratio: 0.3",
+                    "poisson_ratio: 0.3\n    cohesion: 1.0e4\n    friction_angle: 20\n"
+                    "    dilation_angle: 30"),
+               {"case.yaml", 16, 21, "materials[0].dilation_angle", "dilation"});
+  expect_error(with(mc, "poisson_ratio: 0.3", "poisson_ratio: 0.3\n    cohesion: 1.0e4"),
+               {"case.yaml", 9, 5, "materials[0]", "missing required key 'friction_angle'"});
 }
 
 } // namespace

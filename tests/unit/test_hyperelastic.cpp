@@ -234,7 +234,8 @@ TEST(HyperelasticHencky, MaterialUpdateStressIsKirchhoffOverJ) {
   const std::vector<Index> one = {0};
   std::vector<Mat3> out(1);
   EXPECT_THROW(material->update_stress(one, inverted, out), NumericalError);
-  EXPECT_TRUE(std::isnan(material->energy_density(embed_plane_strain(inverted[0]))));
+  EXPECT_TRUE(std::isnan(
+      dynamic_cast<const Hencky&>(*material).energy_density(embed_plane_strain(inverted[0]))));
   EXPECT_THROW(hencky_response(embed_plane_strain(inverted[0]), material->lame()), NumericalError);
 }
 

@@ -227,11 +227,11 @@ TEST_F(Implicit, ImplicitBackendsAgreeOnTheCantilever) {
   std::cout << report.str();
 }
 
-// A Hencky cantilever under 8000x the linear-range tip load on a grid large enough that the
-// beam cannot leave it: the stepper cuts the load step back to min_dt and then must stop with
-// exit code 3, keeping the last converged state as the last frame. (Measured: converged steps to
-// t = 0.075 after two cut-backs, then CHOLMOD reports the tangent at that state not positive
-// definite, at dt = 0.025 and again at min_dt.)
+// The Hencky beam pulled axially by a dead load that no state can carry: with nu = 0 the axial
+// force per unit depth is tau / J = E ln(lambda) / lambda, at most E / e (at stretch e), and the
+// load asks for 2/3 E. The stepper follows the load up to the limit point, cuts the step back to
+// min_dt and then must stop with exit code 3, keeping the last converged state as the last frame.
+// The grid is long enough for the bar at stretch e.
 TEST_F(Implicit, ImplicitLoadFarBeyondConvergenceStopsWithExit3) {
   const fs::path work = root_ / "work";
   fs::create_directory(work);
@@ -241,8 +241,8 @@ TEST_F(Implicit, ImplicitLoadFarBeyondConvergenceStopsWithExit3) {
   }
   const CliOutcome o = run_cli(
       {"run", "case.yaml", "--out", "out", "--set", "materials.beam.model=hencky", "--set",
-       "tractions[0].traction=[0, -8000]", "--set", "time.dt=0.1", "--set", "time.min_dt=0.0125",
-       "--set", "grid.extent=[10, 20]", "--set", "grid.origin=[0, -18]"},
+       "tractions[0].traction=[2e5, 0]", "--set", "time.dt=0.1", "--set", "time.min_dt=0.0125",
+       "--set", "grid.extent=[30, 3]", "--set", "grid.cell_size=0.25"},
       work);
   const std::string describe =
       "exit " + std::to_string(o.exit_code) + "\n--- stdout\n" + o.out + "--- stderr\n" + o.err;

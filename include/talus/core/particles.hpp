@@ -18,7 +18,7 @@ template <int Dim> struct Particles {
   Array<Vec<Dim>> x0;         ///< initial position (voxel reference point, colour patterns)
   Array<int> material;        ///< index into the scene's materials
   Array<int> body;            ///< index into the scene's bodies
-  Array<Vec<Dim>> external_force; ///< point loads and tractions, N (per unit thickness)
+  Array<Vec<Dim>> external_force; ///< point loads, N (per unit thickness); tractions: Scene
 
   // --- optional blocks (empty unless the scene needs them) -------------------------------------
   Array<Mat<Dim>> affine_velocity; ///< APIC's C_p = B_p D_p^-1 (transfer apic only)

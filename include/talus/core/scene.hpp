@@ -4,6 +4,7 @@
 // probes. Building it is the last place a case can be rejected as bad input (exit 2).
 #include "talus/core/particles.hpp"
 #include "talus/grid/grid.hpp"
+#include "talus/grid/surface_load.hpp"
 #include "talus/io/case_spec.hpp"
 #include "talus/material/material.hpp"
 
@@ -31,14 +32,22 @@ template <int Dim> struct Scene {
   /// component (-1 if none): the face that receives its reaction. At a corner each component
   /// goes to the face that constrains it, preferring the face normal to it.
   std::vector<std::int8_t> component_face;
-  /// Per node, the index of the PrescribedSpec whose box holds it (-1 if none).
+  /// Per node, the index of the PrescribedSpec whose box holds it (-1 if none). The boxes follow
+  /// their prescribed displacement in whole cells (a rigid footing carries its box down with
+  /// it), so the implicit solver relocates them every step (locate_prescribed_nodes).
   std::vector<std::int32_t> node_prescribed;
-  std::vector<Index> probe_particles; ///< one particle per ProbeSpec, same order
+  std::vector<SurfaceLoad> surface_loads; ///< the tractions, per loaded point
+  std::vector<Index> probe_particles;     ///< one particle per ProbeSpec, same order
   std::vector<std::string> probe_names;
 };
 
 /// Throws InputError (with the spec's locations) for a scene that cannot be built, e.g. a body
 /// that yields no particle at the chosen resolution.
 Scene<2> build_scene(const CaseSpec& spec);
+
+/// Fills scene.node_prescribed with the nodes inside each prescribed box shifted by the
+/// fraction `ramp` of its prescribed displacement (given components only), rounded to whole
+/// cells.
+void locate_prescribed_nodes(Scene<2>& scene, double ramp);
 
 } // namespace talus

@@ -23,7 +23,27 @@ enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
 /// an affine velocity per particle so affine fields such as a rigid spin transfer exactly.
 enum class TransferScheme { Flip, Apic };
-enum class MaterialModel { LinearElastic, NeoHookean, Hencky };
+enum class MaterialModel {
+  LinearElastic,
+  NeoHookean,
+  Hencky,
+  VonMises,
+  Tresca,
+  MohrCoulomb,
+  DruckerPrager
+};
+
+inline bool is_plastic(MaterialModel m) {
+  return m == MaterialModel::VonMises || m == MaterialModel::Tresca ||
+         m == MaterialModel::MohrCoulomb || m == MaterialModel::DruckerPrager;
+}
+
+/// Softening of c and phi with accumulated plastic shear strain (mohr_coulomb, drucker_prager).
+struct ResidualStrengthSpec {
+  double cohesion = 0;       ///< Pa, >= 0
+  double friction_angle = 0; ///< degrees
+  double plastic_strain = 0; ///< kappa at which the residual strength is reached, > 0
+};
 enum class BodyShape { Rectangle, Disc, Polygon };
 enum class FaceCondition { Free, Fixed, Roller };
 enum class Side { Left, Right, Bottom, Top };
@@ -41,6 +61,14 @@ struct MaterialSpec {
   double density = 0;                                 ///< kg/m^3, > 0 (required)
   double youngs_modulus = 0;                          ///< Pa, > 0 (required)
   double poisson_ratio = 0;                           ///< -, in (-1, 0.5) (required)
+  // --- elasto-plastic models (docs/case-format.md, materials) ---
+  bool small_strain = false;    ///< kinematics: small_strain (else finite_strain, Hencky)
+  double yield_stress = 0;      ///< von_mises, Pa
+  double hardening_modulus = 0; ///< von_mises, Pa (0: perfectly plastic)
+  double cohesion = 0;          ///< tresca, mohr_coulomb, drucker_prager, Pa
+  double friction_angle = 0;    ///< mohr_coulomb, drucker_prager, degrees
+  double dilation_angle = 0;    ///< mohr_coulomb, drucker_prager, degrees (default 0)
+  std::optional<ResidualStrengthSpec> residual; ///< softening; none: perfectly plastic
   SourceLocation where;
 };
 
@@ -61,6 +89,16 @@ struct BodySpec {
   /// Per component: an expression of the initial position (x, y) that replaces velocity[d],
   /// e.g. "0.01 * sin(pi / 50 * x)"; empty when the component is a number.
   std::array<std::string, 2> velocity_expression;
+  /// Initial stress (plastic models only; docs/case-format.md, bodies.initial_stress).
+  struct InitialStress {
+    enum class Kind { Geostatic, Uniform } kind = Kind::Geostatic;
+    /// geostatic: sigma_yy = -rho |g| (surface - y), sigma_xx = sigma_zz = k0 sigma_yy
+    double surface = 0;       ///< m, y of the free surface (default: the body's top)
+    std::optional<double> k0; ///< default nu / (1 - nu)
+    /// uniform: sigma_xx, sigma_yy, sigma_xy, sigma_zz, Pa
+    std::array<double, 4> stress{};
+  };
+  std::optional<InitialStress> initial_stress;
   double angular_velocity = 0; ///< rad/s, initial rigid spin about the body's centroid (default 0)
   SourceLocation where;
 };
@@ -82,6 +120,9 @@ struct TractionSpec {
   int body_index = -1;
   Side side = Side::Top;
   Vec2 traction{0, 0}; ///< Pa (N/m^2 on the side, per unit thickness)
+  /// Implicit analyses: applied in full from the first step instead of following the load
+  /// factor (e.g. the confining pressure that balances an initial stress).
+  bool constant = false;
   SourceLocation where;
 };
 
@@ -112,6 +153,11 @@ struct OutputSpec {
   std::vector<OutputField> fields{OutputField::Velocity, OutputField::Mass,
                                   OutputField::Volume,   OutputField::DeformationGradient,
                                   OutputField::Stress,   OutputField::Material};
+  /// Grid-node stress and smoothed particle stress (Andersen 2013) on every frame (default off).
+  bool stress_recovery = false;
+  /// Deformed voxels and colour patterns on every frame (default off).
+  bool voxels = false;
+  std::optional<double> pattern_size; ///< m, side of the pattern squares (default: cell size)
 };
 
 struct ProbeSpec {
@@ -129,10 +175,14 @@ struct SolverSpec {
   /// (1 = FLIP, 0 = PIC). Ignored by apic.
   double flip = 1.0;
   // --- implicit analyses ---
-  std::string linear_solver = "cholmod"; ///< cholmod | umfpack | klu | eigen_cg | eigen_bicgstab |
-                                         ///< trilinos_cg | trilinos_gmres
-  double newton_tolerance = 1e-8;        ///< max |R| <= tolerance * (largest external force scale)
+  /// cholmod | umfpack | klu | eigen_cg | eigen_bicgstab | trilinos_cg | trilinos_gmres; empty:
+  /// chosen by the solver (cholmod, or umfpack when a material's tangent is nonsymmetric)
+  std::string linear_solver;
+  double newton_tolerance = 1e-8; ///< max |R| <= tolerance * (largest external force scale)
   int max_newton_iterations = 20;
+  /// Ghost-penalty factor gamma (dimensionless, times Young's modulus) on the faces of the
+  /// boundary cells; 0 switches the stabilisation off. See ghost_penalty.hpp.
+  double ghost_penalty = 1e-3;
 };
 
 struct CaseSpec {

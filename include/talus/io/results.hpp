@@ -3,7 +3,10 @@
 // summary.json. Layout documented in docs/output-format.md.
 #include "talus/core/particles.hpp"
 #include "talus/io/case_spec.hpp"
+#include "talus/post/stress_recovery.hpp"
+#include "talus/post/voxels.hpp"
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -27,6 +30,13 @@ struct RunMetadata {
   std::vector<std::string> body_names;
 };
 
+/// Post-processing results written with a frame when the case asks for them
+/// (output.stress_recovery, output.voxels); a null pointer writes nothing of that kind.
+struct FramePost {
+  const RecoveredStress* stress = nullptr; ///< -> stress_smoothed and the grid/ group
+  const Voxels* voxels = nullptr;          ///< -> the voxels/ group
+};
+
 /// Appends frames to run.h5 and keeps run.xmf in step. The file is opened and closed around
 /// every frame (and run.xmf replaced atomically), so every complete frame stays readable if the
 /// run is interrupted later.
@@ -35,7 +45,7 @@ public:
   /// Creates `dir`/run.h5 (replacing an existing one) and writes the metadata.
   ResultsWriter(std::filesystem::path dir, RunMetadata metadata);
   void write_frame(Index step, double time, const Particles<2>& particles,
-                   const std::vector<OutputField>& fields);
+                   const std::vector<OutputField>& fields, const FramePost& post = {});
   Index frames_written() const { return frames_; }
   const std::filesystem::path& h5_path() const { return h5_path_; }
 
@@ -49,8 +59,11 @@ private:
     double time;
     Index particles;
     std::vector<OutputField> fields;
+    bool recovered = false; ///< has stress_smoothed and grid/
+    bool voxels = false;    ///< has voxels/
   };
   std::vector<FrameInfo> frame_info_;
+  std::array<Index, 2> grid_nodes_{0, 0}; ///< physical nodes of the grid/ group (x, y)
 };
 
 /// Reads run.h5 back (tests, `talus render`, restart).
@@ -66,7 +79,11 @@ public:
   Index frame_step(Index frame) const;
   /// Names of the particle datasets in a frame ("position", "velocity", ...).
   std::vector<std::string> frame_fields(Index frame) const;
-  /// A dataset as rows x columns, row-major.
+  /// Whether a frame holds a dataset or group, e.g. "stress", "voxels", "grid/stress".
+  bool frame_has(Index frame, const std::string& path) const;
+  /// A dataset as rows x columns, row-major. `field` is a particle dataset ("stress") or a
+  /// dataset of a frame's sub-group ("grid/stress", "voxels/corners"). Datasets of rank > 2
+  /// fold their leading dimensions into rows (grid/stress, 1 x ny x nx x 6: ny nx rows of 6).
   std::vector<double> read(Index frame, const std::string& field, Index* rows, Index* cols) const;
   std::string case_text() const;
   std::string metadata_string(const std::string& name) const;

@@ -20,6 +20,7 @@ struct LameParameters {
     return {E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))};
   }
   double p_wave_modulus() const { return lambda + 2.0 * mu; }
+  double young_modulus() const { return mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu); }
 };
 
 inline Mat3 embed_plane_strain(const Mat2& F2) {
@@ -40,18 +41,34 @@ public:
   /// Speed of the fastest (pressure) wave at the reference state, m/s; used for the CFL step.
   double wave_speed() const;
 
-  /// Cauchy stress for every particle in `ids` from its deformation gradient.
+  /// Cauchy stress for every particle in `ids` from its deformation gradient: the explicit
+  /// solver's material update. A model with history accepts the new state at once.
   virtual void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                             std::span<Mat3> stress) const = 0;
-  /// Stored (strain) energy per unit reference volume.
-  virtual double energy_density(const Mat3& F) const = 0;
-  /// sum over ids of volume0 * energy_density(F): the stored energy of a batch of points.
+                             std::span<Mat3> stress) = 0;
+  /// The stored (elastic strain) energy of a batch of points at the deformation gradients F
+  /// (for a model with history: of its converged elastic strain).
   virtual double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
                                std::span<const double> volume0) const = 0;
   /// Kirchhoff stress and consistent tangent dtau/dF at the trial deformation gradients
-  /// F[ids[k]] (full 3x3), written to out[ids[k]]: the implicit solver's material update.
+  /// F[ids[k]] (full 3x3), written to out[ids[k]]: the implicit solver's material update. A
+  /// model with history evaluates the trial from its converged state and keeps it as a trial
+  /// until commit().
   virtual void response(std::span<const Index> ids, std::span<const Mat3> F,
-                        std::span<StressTangent> out) const = 0;
+                        std::span<StressTangent> out) = 0;
+
+  // --- history (elasto-plastic models); elastic models keep the defaults -------------------
+  /// Accepts the trial states of the last response() for the points in ids (implicit solver,
+  /// after a converged step).
+  virtual void commit(std::span<const Index> /*ids*/) {}
+  /// Whether the consistent tangent may be nonsymmetric (non-associated flow, softening).
+  virtual bool symmetric_tangent() const { return true; }
+  /// Whether the model carries a plastic history (and a plastic-strain output field).
+  virtual bool plastic() const { return false; }
+  /// Accumulated equivalent plastic shear strain of the points in ids, into out[ids[k]].
+  virtual void plastic_strain(std::span<const Index> ids, std::span<double> out) const;
+  /// Starts the points in ids from the Cauchy stresses stress[ids[k]] at F = I (geostatic
+  /// initial stress). Throws InputError naming the point if a stress is not admissible.
+  virtual void set_initial_stress(std::span<const Index> ids, std::span<const Mat3> stress);
 
 private:
   std::string name_;
@@ -65,7 +82,7 @@ template <class Law> class ElasticMaterial : public Material {
 public:
   using Material::Material;
   void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
-                     std::span<Mat3> stress_out) const final {
+                     std::span<Mat3> stress_out) final {
     const auto& law = static_cast<const Law&>(*this);
     parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
@@ -83,7 +100,7 @@ public:
     return sum;
   }
   void response(std::span<const Index> ids, std::span<const Mat3> F,
-                std::span<StressTangent> out) const final {
+                std::span<StressTangent> out) final {
     const auto& law = static_cast<const Law&>(*this);
     parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
@@ -100,7 +117,7 @@ public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
   StressTangent response(const Mat3& F) const;
-  double energy_density(const Mat3& F) const override;
+  double energy_density(const Mat3& F) const;
 };
 
 /// Compressible neo-Hookean: sigma = mu/J (b - I) + lambda ln(J)/J I,
@@ -110,7 +127,7 @@ public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
   StressTangent response(const Mat3& F) const;
-  double energy_density(const Mat3& F) const override;
+  double energy_density(const Mat3& F) const;
 };
 
 /// Hencky (logarithmic-strain) hyperelasticity: tau = lambda tr(e) I + 2 mu e with
@@ -121,7 +138,7 @@ public:
   using ElasticMaterial::ElasticMaterial;
   Mat3 stress(const Mat3& F) const;
   StressTangent response(const Mat3& F) const;
-  double energy_density(const Mat3& F) const override;
+  double energy_density(const Mat3& F) const;
 };
 
 std::unique_ptr<Material> make_material(const MaterialSpec& spec);

@@ -1,0 +1,54 @@
+#pragma once
+// Tractions act on the boundary of the body, not at the material points' centres. Mapping a
+// traction point's force with the point's own shape functions (as a body force) hands part of
+// it to nodes inside the body, and on a coarse grid to nodes on a support, where it never
+// loads the material (one cell: a quarter of a side load is lost). A surface load therefore
+// carries the offset from its point's centre to the midpoint of the loaded voxel face; the face
+// midpoint follows the deformation, x_p + F_p r, and its force goes to the grid through the
+// bilinear hats of the cell that holds it, clamped into the point's stencil so that only nodes
+// the point reaches receive it.
+#include "talus/core/particles.hpp"
+#include "talus/grid/grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace talus {
+
+struct SurfaceLoad {
+  Index particle = 0;
+  Vec2 offset{0, 0}; ///< reference offset from the point's centre to the loaded face midpoint
+  Vec2 force{0, 0};  ///< N per unit thickness
+  /// Implicit analyses: applied in full from the first step instead of following the load
+  /// factor (TractionSpec::constant).
+  bool constant = false;
+};
+
+/// Calls add(node, weight) for the grid nodes that share the load's force, with weights that
+/// sum to one. `stencil_first` and `stencil_width` bound the nodes the point reaches
+/// (ParticleGridMap::stencil(p).start and Shape::kWidth).
+template <class Add>
+void for_each_surface_load_node(const Grid<2>& grid, const Particles<2>& particles,
+                                const SurfaceLoad& load, const std::array<Index, 2>& stencil_first,
+                                int stencil_width, Add&& add) {
+  const auto s = static_cast<std::size_t>(load.particle);
+  const Vec2 x = particles.x[s] + particles.F[s] * load.offset - grid.origin();
+  const double h = grid.cell_size();
+  std::array<Index, 2> cell{};
+  std::array<double, 2> xi{};
+  for (int d = 0; d < 2; ++d) {
+    const double lo = static_cast<double>(stencil_first[d]);
+    const double hi = lo + static_cast<double>(stencil_width - 1);
+    const double u = std::clamp(x[d] / h, lo, hi);
+    cell[d] = std::min(static_cast<Index>(std::floor(u)), static_cast<Index>(hi) - 1);
+    xi[d] = u - static_cast<double>(cell[d]);
+  }
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const double w = (i ? xi[0] : 1.0 - xi[0]) * (j ? xi[1] : 1.0 - xi[1]);
+      if (w > 0.0)
+        add(grid.node_id({cell[0] + i, cell[1] + j}), w);
+    }
+}
+
+} // namespace talus

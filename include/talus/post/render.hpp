@@ -1,0 +1,25 @@
+#pragma once
+// `talus render`: PNG pictures of a run's frames, deformed voxels (or dots) coloured by a
+// particle field or a colour pattern, with a colour bar, axes in model units and the time.
+// The request is validated here against run.h5 (bad input: InputError naming the option, exit 2,
+// nothing written); the drawing is matplotlib's (scripts/render.py), which brings colour maps,
+// colour bars and axes that a raw drawing library (cairo) would need written by hand.
+#include <filesystem>
+#include <string>
+
+namespace talus {
+
+struct RenderOptions {
+  std::filesystem::path results; ///< run.h5
+  std::string field;             ///< particle dataset, e.g. "stress", "stress_smoothed"
+  std::string component;         ///< "xy", "x", "magnitude", ...; empty for scalar fields
+  std::string frame = "last";    ///< frame number, "last" or "all"
+  std::string pattern;           ///< "checker", "stripes_horizontal" or "stripes_vertical"
+  std::string mode;              ///< "voxels" or "points"; empty: voxels when written
+  std::filesystem::path output;  ///< OUT.png; with frame "all": OUT_000000.png, ...
+};
+
+/// Validates the request, then draws; returns the exit code (0).
+int render(const RenderOptions& options);
+
+} // namespace talus

@@ -1,0 +1,48 @@
+#pragma once
+// Stress recovery from the reference talk (Andersen 2013): particle stresses in MPM can be
+// erratic (a bent beam's shear stress at the points is a mess), yet their mass-weighted
+// projection to the grid is physically right. Two post-processing fields, computed on output
+// frames only:
+//   grid-node stress          sigma_i = sum_p sigma_p Phi_ip m_p / m_i,  m_i = sum_p Phi_ip m_p
+//   smoothed particle stress  sigma_p^s = sum_i sigma_i Phi_ip
+// Phi_ip are the run's own shape-function kernels (linear hats or uGIMP) at the current
+// positions.
+#include "talus/core/particles.hpp"
+#include "talus/grid/grid.hpp"
+#include "talus/io/case_spec.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace talus {
+
+/// A symmetric stress by its six components in XDMF Tensor6 order: xx, xy, xz, yy, yz, zz (the
+/// order of the stress datasets in run.h5; six sums instead of nine).
+using SymmetricStress = Eigen::Matrix<double, 6, 1>;
+
+struct RecoveredStress {
+  Grid<2> grid;                       ///< the background grid the node arrays refer to
+  std::vector<double> node_mass;      ///< m_i per node (flat Grid::node_id, ghosts included), kg
+  Array<SymmetricStress> node_stress; ///< sigma_i per node, Pa; zero where m_i = 0
+  Array<SymmetricStress> smoothed_stress; ///< sigma_p^s per particle, Pa
+};
+
+/// Computes RecoveredStress for successive frames of one run. It keeps its arrays between
+/// calls: a run allocates them once, not once per frame.
+class StressRecovery {
+public:
+  StressRecovery(const Grid<2>& grid, ShapeFunction shape);
+  ~StressRecovery();
+  StressRecovery(StressRecovery&&) noexcept;
+  StressRecovery& operator=(StressRecovery&&) noexcept;
+  /// Projects the particle stresses to the grid and back. Throws NumericalError if a particle
+  /// lies outside the grid. The result stays valid until the next call.
+  const RecoveredStress& recover(const Particles<2>& particles);
+
+  class Impl; ///< the work for one shape function (src/post/stress_recovery.cpp)
+
+private:
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace talus

@@ -1,0 +1,62 @@
+#pragma once
+// Ghost-penalty stabilisation of the implicit grid solve (Burman 2010; for the material point
+// method Coombs 2023, "Ghost stabilisation of the material point method for stable
+// quasi-static and dynamic analysis of large deformation problems", IJNME).
+//
+// Why: a grid node whose support holds only a sliver of material (a point that barely reaches
+// it) gets a tiny stiffness, and the geometric (initial-stress) stiffness of a compressed point
+// can make it negative: the tangent is near singular or indefinite, and a large-deflection
+// beam that sweeps across many cells stops with "not positive definite". Dropping such nodes
+// stiffens the body badly. The ghost penalty instead ties the displacement of a boundary cell
+// to its neighbour's by penalising the jump of the normal derivative across their common face,
+//     G(u, v) = gamma E h sum_faces int_face [[du/dn]] . [[dv/dn]] dGamma,
+// which vanishes for every linear displacement field (so rigid motion and homogeneous strain
+// are untouched, and the penalty is consistent to the order of the Q1 grid field) and gives
+// every node of a stabilised face a stiffness of order gamma E however little material it sees.
+//
+// Which faces: those between two active cells (all four nodes carry mass) where at least one of
+// the two lies in the boundary band, i.e. has an inactive cell among its eight neighbours.
+// This is a topological test, independent of how much a cell is compressed or stretched
+// (a volume-fraction test would also fire inside a compressed body).
+//
+// On a regular grid the face integral is closed form. For a face with normal along axis d,
+// the bilinear basis's normal derivative jumps by (1/h) [-1, 2, -1] across the three node
+// layers (behind, on, ahead of the face) times the tangential hat (1 - eta, eta), so the face
+// matrix over its six nodes is
+//     G_face = gamma E (d d^T) (x) M,   d = [-1, 2, -1],   M = [[1/3, 1/6], [1/6, 1/3]],
+// acting on each displacement component alike; it is independent of h in 2D.
+#include "talus/grid/grid.hpp"
+
+#include <array>
+#include <vector>
+
+namespace talus {
+
+class GhostPenalty {
+public:
+  static constexpr int kFaceNodes = 6;
+  using FaceMatrix = Eigen::Matrix<double, kFaceNodes, kFaceNodes>;
+
+  /// A stabilised face: its six nodes, ordered (normal layer 0..2) x (tangential 0..1) so that
+  /// index 2 * layer + t matches face_matrix(), and gamma times the modulus there.
+  struct Face {
+    std::array<Index, kFaceNodes> nodes{};
+    double stiffness = 0;
+  };
+
+  /// Finds the stabilised faces. node_active[n]: node n carries mass this step;
+  /// node_modulus[n]: the largest Young's modulus among the points that reach node n;
+  /// gamma: the dimensionless penalty factor (0 switches stabilisation off).
+  void build(const Grid<2>& grid, const std::vector<char>& node_active,
+             const std::vector<double>& node_modulus, double gamma);
+
+  const std::vector<Face>& faces() const { return faces_; }
+  /// (d d^T) (x) M, the face matrix for unit stiffness.
+  static const FaceMatrix& face_matrix();
+
+private:
+  std::vector<Face> faces_;
+  std::vector<char> cell_active_, cell_in_band_;
+};
+
+} // namespace talus

@@ -1,0 +1,147 @@
+// `talus render` (include/talus/post/render.hpp): resolves the frame, field, component, pattern
+// and mode against run.h5, then hands the resolved datasets to scripts/render.py.
+#include "talus/post/render.hpp"
+
+#include "talus/core/errors.hpp"
+#include "talus/io/results.hpp"
+#include "talus/post/python_script.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <optional>
+#include <vector>
+
+namespace talus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void bad(const std::string& option, const std::string& what) {
+  throw InputError({option, 0, 0, ""}, what);
+}
+
+/// Component names of a dataset by its column count, in column order.
+std::vector<std::string> components_of(Index columns) {
+  switch (columns) {
+  case 2:
+    return {"x", "y"};
+  case 6: // Tensor6: xx, xy, xz, yy, yz, zz
+    return {"xx", "xy", "xz", "yy", "yz", "zz"};
+  case 9: // 3x3 row-major
+    return {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+  default:
+    return {};
+  }
+}
+
+std::vector<Index> selected_frames(const std::string& frame, Index count) {
+  if (count == 0)
+    bad("--frame", "the results file has no frames");
+  if (frame == "last")
+    return {count - 1};
+  if (frame == "all") {
+    std::vector<Index> all(static_cast<std::size_t>(count));
+    for (Index k = 0; k < count; ++k)
+      all[static_cast<std::size_t>(k)] = k;
+    return all;
+  }
+  Index k = -1;
+  const auto [end, ec] = std::from_chars(frame.data(), frame.data() + frame.size(), k);
+  if (ec != std::errc() || end != frame.data() + frame.size())
+    bad("--frame", fmt::format("expected a frame number, 'last' or 'all', got '{}'", frame));
+  if (k < 0 || k >= count)
+    bad("--frame", fmt::format("frame {} is not in the results (frames 0 to {})", k, count - 1));
+  return {k};
+}
+
+} // namespace
+
+int render(const RenderOptions& o) {
+  const std::string file = o.results.string();
+  std::error_code ec;
+  if (!fs::is_regular_file(o.results, ec))
+    bad(file, "no such results file");
+  std::optional<ResultsReader> reader;
+  try {
+    reader.emplace(o.results);
+  } catch (const std::runtime_error& e) {
+    bad(file, e.what());
+  }
+  if (o.output.extension() != ".png")
+    bad("-o", fmt::format("the picture must be a .png file, got '{}'", o.output.string()));
+  if (o.field.empty() == o.pattern.empty())
+    bad("--field", "give exactly one of --field NAME and --pattern NAME");
+  const std::vector<std::string> patterns = {"checker", "stripes_horizontal", "stripes_vertical"};
+  if (!o.pattern.empty() &&
+      std::find(patterns.begin(), patterns.end(), o.pattern) == patterns.end())
+    bad("--pattern",
+        fmt::format("unknown pattern '{}' (allowed: {})", o.pattern, fmt::join(patterns, ", ")));
+  if (!o.mode.empty() && o.mode != "voxels" && o.mode != "points")
+    bad("--mode", fmt::format("unknown mode '{}' (allowed: voxels, points)", o.mode));
+
+  const std::vector<Index> frames = selected_frames(o.frame, reader->frame_count());
+  bool all_have_voxels = true;
+  for (const Index k : frames)
+    all_have_voxels = all_have_voxels && reader->frame_has(k, "voxels");
+  const std::string mode = o.mode.empty() ? (all_have_voxels ? "voxels" : "points") : o.mode;
+  const bool needs_voxels = mode == "voxels" || !o.pattern.empty();
+  if (needs_voxels && !all_have_voxels)
+    bad(o.pattern.empty() ? "--mode" : "--pattern",
+        fmt::format("'{}' has no voxels in {}; run the case with 'output: {{voxels: true}}' "
+                    "(or draw dots with --mode points)",
+                    file, o.frame == "all" ? "every frame" : "frame " + o.frame));
+
+  std::vector<std::string> args = {o.results.string(), "--frames"};
+  for (const Index k : frames)
+    args.push_back(std::to_string(k));
+  if (!o.pattern.empty()) {
+    args.insert(args.end(), {"--pattern", o.pattern});
+    if (!o.component.empty())
+      bad("--component", "a pattern has no components");
+  } else {
+    // The field must be a particle dataset of every selected frame.
+    Index columns = 0;
+    for (const Index k : frames) {
+      const auto names = reader->frame_fields(k);
+      if (std::find(names.begin(), names.end(), o.field) == names.end())
+        bad("--field", fmt::format("field '{}' is not in frame {} of '{}' (it has: {})", o.field, k,
+                                   file, fmt::join(names, ", ")));
+    }
+    Index rows = 0;
+    reader->read(frames.front(), o.field, &rows, &columns);
+    const auto names = components_of(columns);
+    std::string column;
+    std::string label = o.field;
+    if (names.empty()) {
+      if (!o.component.empty())
+        bad("--component", fmt::format("field '{}' is a scalar; leave out --component", o.field));
+    } else if (o.component.empty() || o.component == "magnitude") {
+      if (columns != 2)
+        bad("--component", fmt::format("field '{}' has components {}; choose one with --component",
+                                       o.field, fmt::join(names, ", ")));
+      column = "norm";
+      label += " magnitude";
+    } else {
+      const auto it = std::find(names.begin(), names.end(), o.component);
+      if (it == names.end())
+        bad("--component",
+            fmt::format("field '{}' has no component '{}' (allowed: {}{})", o.field, o.component,
+                        fmt::join(names, ", "), columns == 2 ? ", magnitude" : ""));
+      column = std::to_string(it - names.begin());
+      label += " " + o.component;
+    }
+    args.insert(args.end(), {"--dataset", o.field, "--column", column, "--label", label});
+  }
+  args.insert(args.end(), {"--mode", mode, "-o", o.output.string()});
+  if (o.frame == "all")
+    args.push_back("--sequence");
+  if (o.output.has_parent_path())
+    fs::create_directories(o.output.parent_path());
+  run_python_script("render.py", args);
+  return kExitOk;
+}
+
+} // namespace talus
