@@ -333,6 +333,7 @@ private:
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
   std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;
   TimeSpec time(const Item& it) const;
+  void check_explicit_time_step(const Map& top, const CaseSpec& spec) const;
   OutputSpec output(const Item& it) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
   SolverSpec solver(const Item& it, AnalysisType analysis) const;
@@ -929,6 +930,33 @@ std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec
   return out;
 }
 
+// A fixed explicit step above h / c_p amplifies the stiffest mode of the grid (the CFL limit of
+// the lumped-mass central-difference scheme); such a step is refused, not run into a blow-up.
+// Velocities are checked while stepping: the run stops once dt (c_p + |v|) / h exceeds 1.
+void Validator::check_explicit_time_step(const Map& top, const CaseSpec& spec) const {
+  double fastest = 0;
+  std::string material;
+  for (const auto& body : spec.bodies)
+    for (const auto& m : spec.materials)
+      if (m.name == body.material) {
+        const double nu = m.poisson_ratio;
+        const double p_wave = m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+        if (const double c = std::sqrt(p_wave / m.density); c > fastest) {
+          fastest = c;
+          material = m.name;
+        }
+      }
+  const double limit = spec.grid.cell_size / fastest;
+  if (*spec.time.dt > limit) {
+    const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+    fail(time_map["dt"],
+         fmt::format("explicit time step {:g} s is above the stability limit h / c_p = {:g} s "
+                     "(cell size {:g} m, p-wave speed {:g} m/s of material '{}'); use dt <= "
+                     "{:g} or set time.cfl instead",
+                     *spec.time.dt, limit, spec.grid.cell_size, fastest, material, limit));
+  }
+}
+
 TimeSpec Validator::time(const Item& it) const {
   const Map m(*this, it, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
   TimeSpec t;
@@ -1136,6 +1164,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
                           "needs 'dt', its initial load step");
   }
+  if (spec.analysis == AnalysisType::Explicit && spec.time.dt)
+    check_explicit_time_step(top, spec);
   return spec;
 }
 

@@ -86,6 +86,12 @@ public:
   std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
 
+  std::optional<StateViolation> grid_violation() const override {
+    if (auto v = find_node_violation(scene_.grid, active(), velocity_, "grid velocity"))
+      return v;
+    return find_node_violation(scene_.grid, active(), acceleration_, "grid acceleration");
+  }
+
 private:
   const std::vector<Index>& active() const { return map_.active_nodes(); }
   V node_position(Index n) const { return scene_.grid.node_position(scene_.grid.node_ijk(n)); }

@@ -8,6 +8,7 @@
 #include "talus/post/voxels.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
+#include "talus/solver/state_guard.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -117,6 +118,8 @@ struct Recorder {
   double frame_interval;
   double next_frame_time;
   bool frame_at_current_step = true;
+  Index last_frame_step = 0;
+  double last_frame_time = 0;
   double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
   std::optional<StressRecovery> recovery{}; ///< made on the first frame, reused by the others
   Voxels voxels{};
@@ -140,6 +143,19 @@ struct Recorder {
     post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     writer.write_frame(step, t, scene.particles, out.fields, post);
     frame_at_current_step = true;
+    last_frame_step = step;
+    last_frame_time = t;
+  }
+
+  /// Stops the run (StateGuardError) when the guard found something; `when` says at which
+  /// point of the step. A bad state is not written: the frames already on disk are the good ones.
+  void stop_if_violated(const std::optional<StateViolation>& violation,
+                        const std::string& when) const {
+    if (violation)
+      throw StateGuardError(
+          fmt::format("state guard: {} {}; the last good frame is frame {} (step {}, t = {:g})",
+                      violation->describe(), when, writer.frames_written() - 1, last_frame_step,
+                      last_frame_time));
   }
 
   /// The end of the next step: the end time or the next frame time, whichever comes first.
@@ -199,8 +215,29 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     const double target = rec.target(time.end_time);
     if (s.t + dt * (1.0 + kSliver) >= target)
       dt = target - s.t;
-    solver->step(dt);
-    s.t = (s.t + dt >= target) ? target : s.t + dt;
+    const double t_end = (s.t + dt >= target) ? target : s.t + dt;
+    // Above the Courant limit the step would amplify every mode: stop before taking it, with
+    // the state, still good, as the last frame.
+    if (time.dt)
+      if (auto violation = find_courant_violation(scene, dt)) {
+        rec.final_frame(s.step, s.t);
+        rec.stop_if_violated(violation, fmt::format("before the step from t = {:g}", s.t));
+      }
+    const std::string at_end = fmt::format("at the end of the step (t = {:g})", t_end);
+    auto guard = [&] {
+      rec.stop_if_violated(solver->grid_violation(), at_end);
+      rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
+    };
+    try {
+      solver->step(dt);
+    } catch (const NumericalError&) {
+      // A material that met det F <= 0 or a point that left the grid: name the point if the
+      // state shows it, otherwise pass the solver's own message on.
+      guard();
+      throw;
+    }
+    guard();
+    s.t = t_end;
     ++s.step;
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
@@ -285,6 +322,8 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
         dt = std::max(0.5 * step_dt, min_dt);
         continue;
       }
+      rec.stop_if_violated(find_particle_violation(scene.particles),
+                           fmt::format("after the converged step to t = {:g}", t_end));
       max_iterations = std::max<Index>(max_iterations, r.iterations);
       s.t = t_end;
       ++s.step;
@@ -297,6 +336,9 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
                      solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
     }
+  } catch (const StateGuardError&) {
+    record_totals();
+    throw;
   } catch (const NumericalError&) {
     record_totals();
     rec.final_frame(s.step, s.t); // the last converged state

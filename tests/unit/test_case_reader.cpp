@@ -75,7 +75,8 @@ solver:
   flip: 0.95
 )";
 
-// The smallest valid case: everything optional left out.
+// The smallest valid case: everything optional left out. Its step is below the explicit
+// stability limit h / c_p = 8.5e-5 s, which the reader enforces.
 const std::string kMinimal = R"(name: minimal
 grid:
   extent: [2, 1]
@@ -86,7 +87,7 @@ bodies:
   - {name: block, material: steel, shape: rectangle, min: [0.5, 0], max: [1.5, 0.5]}
 time:
   end_time: 1
-  dt: 1e-3
+  dt: 5e-5
 )";
 
 /// `text` with the first occurrence of `from` replaced by `to` (which must exist).
@@ -264,7 +265,7 @@ TEST(CaseReader, AppliesDefaults) {
   EXPECT_TRUE(c.tractions.empty());
   EXPECT_TRUE(c.probes.empty());
   ASSERT_TRUE(c.time.dt.has_value());
-  EXPECT_DOUBLE_EQ(*c.time.dt, 1e-3);
+  EXPECT_DOUBLE_EQ(*c.time.dt, 5e-5);
   EXPECT_FALSE(c.time.cfl.has_value());
   EXPECT_EQ(c.time.max_steps, 10000000);
   EXPECT_FALSE(c.output.every_steps.has_value());
@@ -478,6 +479,8 @@ TEST(CaseReaderErrors, NonPhysicalValues) {
       {"end_time: 0.05", "end_time: -1", 47, 13, "time.end_time", "must be > 0 (got -1)"},
       {"cfl: 0.5", "dt: 0", 48, 7, "time.dt", "must be > 0 (got 0)"},
       {"cfl: 0.5", "dt: -1e-4", 48, 7, "time.dt", "must be > 0 (got -1e-4)"},
+      {"cfl: 0.5", "dt: 1e-3", 48, 7, "time.dt",
+       "explicit time step 0.001 s is above the stability limit h / c_p"},
       {"cfl: 0.5", "cfl: 1", 48, 8, "time.cfl", "must be in the open interval (0, 1) (got 1)"},
       {"cfl: 0.5", "cfl: 1.5", 48, 8, "time.cfl", "must be in the open interval (0, 1) (got 1.5)"},
       {"cfl: 0.5", "cfl: 0", 48, 8, "time.cfl", "must be in the open interval (0, 1) (got 0)"},
@@ -722,7 +725,7 @@ TEST(CaseReaderOverrides, CreatedKeyIsCheckedForUnknownKeys) {
 }
 
 TEST(CaseReaderOverrides, SectionCreatedByOverrideIsBlamedOnIt) {
-  const std::string no_time = with(kMinimal, "time:\n  end_time: 1\n  dt: 1e-3\n", "");
+  const std::string no_time = with(kMinimal, "time:\n  end_time: 1\n  dt: 5e-5\n", "");
   expect_error(no_time,
                {"--set", 0, 0, "time", "missing required key 'end_time' (from --set time.cfl=0.5)"},
                {"time.cfl=0.5"});

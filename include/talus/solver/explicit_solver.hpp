@@ -7,9 +7,11 @@
 // the result is bitwise identical for any thread count.
 #include "talus/core/scene.hpp"
 #include "talus/solver/energies.hpp"
+#include "talus/solver/state_guard.hpp"
 
 #include <array>
 #include <memory>
+#include <optional>
 
 namespace talus {
 
@@ -25,6 +27,9 @@ public:
   /// Reaction force on each grid face from the last step (sum over constrained nodes), N.
   virtual std::array<Vec2, kFaceCount> reactions() const = 0;
   virtual Index active_nodes() const = 0;
+  /// The state guard's look at the grid of the last step: the first active node whose
+  /// velocity or acceleration is not finite.
+  virtual std::optional<StateViolation> grid_violation() const = 0;
 };
 
 /// Picks the shape-function instantiation once, for the whole run.

@@ -1,0 +1,50 @@
+#pragma once
+// The stepper's state guard: a run either gives bounded, physical numbers or stops with a
+// reason, never NaN garbage. After every step one read-only pass (no allocation) looks for a
+// value that is not finite in the grid or particle state, or a point whose det F is not
+// positive (inverted or collapsed); with a fixed explicit time step the Courant number of
+// every point is checked before the step. A finding names the field, the particle or node and
+// where it sits; the stepper turns it into a NumericalError (exit 3).
+#include "talus/core/errors.hpp"
+#include "talus/core/particles.hpp"
+#include "talus/core/scene.hpp"
+#include "talus/grid/grid.hpp"
+
+#include <optional>
+#include <span>
+#include <string>
+
+namespace talus {
+
+/// The guard's stop (exit 3). The state it found is not written: every frame on disk was
+/// written after the guard passed its step, so the frames already written are the good ones.
+class StateGuardError : public NumericalError {
+public:
+  using NumericalError::NumericalError;
+};
+
+struct StateViolation {
+  std::string field;     ///< e.g. "velocity", "det F", "grid acceleration", "Courant number"
+  bool on_node = false;  ///< a grid node, otherwise a particle
+  Index index = -1;      ///< particle index (at this step) or grid node id
+  Vec2 position{0, 0};   ///< the particle's position at the start of the run, or the node's
+  double value = 0;      ///< the offending value (the first non-finite component)
+  std::string condition; ///< what was violated, e.g. "is not finite", "<= 0"
+  /// "det F = -0.45 <= 0 at particle 17 (initial position (0.1, 0.2))".
+  std::string describe() const;
+};
+
+/// The lowest-index particle with a non-finite position, velocity, F or stress, or det F <= 0.
+/// Particles are named with their initial position, which survives re-indexing (splitting).
+std::optional<StateViolation> find_particle_violation(const Particles<2>& particles);
+
+/// The first of `nodes` whose value in `field` (indexed by node id) is not finite.
+std::optional<StateViolation> find_node_violation(const Grid<2>& grid, std::span<const Index> nodes,
+                                                  std::span<const Vec2> field,
+                                                  const char* field_name);
+
+/// With a fixed explicit step dt: the point with the largest Courant number
+/// dt (c_p + |v_p|) / h when that number exceeds 1, the limit the case reader enforces at t = 0.
+std::optional<StateViolation> find_courant_violation(const Scene<2>& scene, double dt);
+
+} // namespace talus

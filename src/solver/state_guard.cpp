@@ -1,0 +1,80 @@
+#include "talus/solver/state_guard.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace talus {
+
+namespace {
+
+/// The first component that is not finite, if any.
+template <class Derived>
+std::optional<double> non_finite_component(const Eigen::MatrixBase<Derived>& m) {
+  for (Eigen::Index i = 0; i < m.size(); ++i)
+    if (!std::isfinite(m.derived().coeff(i)))
+      return m.derived().coeff(i);
+  return std::nullopt;
+}
+
+StateViolation particle_violation(const Particles<2>& P, std::size_t s, const char* field,
+                                  double value, const char* condition) {
+  return StateViolation{field, false, static_cast<Index>(s), P.x0[s], value, condition};
+}
+
+} // namespace
+
+std::string StateViolation::describe() const {
+  const std::string where =
+      on_node ? fmt::format("grid node {} at ({:g}, {:g})", index, position.x(), position.y())
+              : fmt::format("particle {} (initial position ({:g}, {:g}))", index, position.x(),
+                            position.y());
+  return fmt::format("{} = {:g} {} at {}", field, value, condition, where);
+}
+
+std::optional<StateViolation> find_particle_violation(const Particles<2>& P) {
+  constexpr const char* kNotFinite = "is not finite";
+  for (std::size_t s = 0; s < P.x.size(); ++s) {
+    // Fields in the order the step computes them, so the report names the earliest symptom.
+    if (const auto bad = non_finite_component(P.v[s]))
+      return particle_violation(P, s, "velocity", *bad, kNotFinite);
+    if (const auto bad = non_finite_component(P.x[s]))
+      return particle_violation(P, s, "position", *bad, kNotFinite);
+    if (const auto bad = non_finite_component(P.F[s]))
+      return particle_violation(P, s, "F", *bad, kNotFinite);
+    const double J = P.F[s].determinant();
+    if (!(J > 0.0))
+      return particle_violation(P, s, "det F", J, "<= 0 (inverted or collapsed point)");
+    if (const auto bad = non_finite_component(P.stress[s]))
+      return particle_violation(P, s, "stress", *bad, kNotFinite);
+  }
+  return std::nullopt;
+}
+
+std::optional<StateViolation> find_node_violation(const Grid<2>& grid, std::span<const Index> nodes,
+                                                  std::span<const Vec2> field,
+                                                  const char* field_name) {
+  for (const Index n : nodes)
+    if (const auto bad = non_finite_component(field[static_cast<std::size_t>(n)]))
+      return StateViolation{field_name, true,           n, grid.node_position(grid.node_ijk(n)),
+                            *bad,       "is not finite"};
+  return std::nullopt;
+}
+
+std::optional<StateViolation> find_courant_violation(const Scene<2>& scene, double dt) {
+  const auto& P = scene.particles;
+  const double h = scene.grid.cell_size();
+  double worst = 1.0;
+  std::optional<StateViolation> found;
+  for (std::size_t s = 0; s < P.x.size(); ++s) {
+    const double c = scene.materials[static_cast<std::size_t>(P.material[s])]->wave_speed();
+    const double courant = dt * (c + P.v[s].norm()) / h;
+    if (courant > worst) {
+      worst = courant;
+      found = particle_violation(P, s, "Courant number dt (c_p + |v|) / h", courant,
+                                 "exceeds 1 (the time step is above the stability limit)");
+    }
+  }
+  return found;
+}
+
+} // namespace talus
