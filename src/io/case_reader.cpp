@@ -334,7 +334,7 @@ private:
   std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;
   TimeSpec time(const Item& it) const;
   void check_explicit_time_step(const Map& top, const CaseSpec& spec) const;
-  OutputSpec output(const Item& it) const;
+  OutputSpec output(const Item& it, bool any_plastic) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
   SolverSpec solver(const Item& it, AnalysisType analysis) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
@@ -987,10 +987,19 @@ TimeSpec Validator::time(const Item& it) const {
   return t;
 }
 
-OutputSpec Validator::output(const Item& it) const {
+/// The output defaults: the six fields, plus plastic_strain when the case has an
+/// elasto-plastic material.
+OutputSpec default_output(bool any_plastic) {
+  OutputSpec o;
+  if (any_plastic)
+    o.fields.push_back(OutputField::PlasticStrain);
+  return o;
+}
+
+OutputSpec Validator::output(const Item& it, bool any_plastic) const {
   const Map m(*this, it,
               {"every_steps", "every_time", "fields", "stress_recovery", "voxels", "pattern_size"});
-  OutputSpec o;
+  OutputSpec o = default_output(any_plastic);
   if (m.has("every_steps")) {
     const Item every = m["every_steps"];
     o.every_steps = integer(every);
@@ -1004,14 +1013,19 @@ OutputSpec Validator::output(const Item& it) const {
   if (m.has("fields")) {
     o.fields.clear();
     for (const Item& f : list(m["fields"])) {
-      const OutputField field = choice<OutputField>(f, {{"velocity", OutputField::Velocity},
-                                                        {"mass", OutputField::Mass},
-                                                        {"volume", OutputField::Volume},
-                                                        {"F", OutputField::DeformationGradient},
-                                                        {"stress", OutputField::Stress},
-                                                        {"material", OutputField::Material}});
+      const OutputField field =
+          choice<OutputField>(f, {{"velocity", OutputField::Velocity},
+                                  {"mass", OutputField::Mass},
+                                  {"volume", OutputField::Volume},
+                                  {"F", OutputField::DeformationGradient},
+                                  {"stress", OutputField::Stress},
+                                  {"material", OutputField::Material},
+                                  {"plastic_strain", OutputField::PlasticStrain}});
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
         fail(f, "field '" + f.node.Scalar() + "' is listed twice");
+      if (field == OutputField::PlasticStrain && !any_plastic)
+        fail(f, "field 'plastic_strain' needs an elasto-plastic material (von_mises, tresca, "
+                "mohr_coulomb, drucker_prager); every material of this case is elastic");
       o.fields.push_back(field);
     }
   }
@@ -1141,8 +1155,10 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.present("prescribed"))
     spec.prescribed = prescribed(top["prescribed"], spec);
   spec.time = time(top.required("time"));
-  if (top.present("output"))
-    spec.output = output(top["output"]);
+  const bool any_plastic = std::any_of(spec.materials.begin(), spec.materials.end(),
+                                       [](const MaterialSpec& m) { return is_plastic(m.model); });
+  spec.output =
+      top.present("output") ? output(top["output"], any_plastic) : default_output(any_plastic);
   if (top.present("probes"))
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))

@@ -262,6 +262,14 @@ inline constexpr DatasetInfo kMaterial{
     "material", 0, true, "1", "material index into /metadata@material_names", "Scalar"};
 inline constexpr DatasetInfo kBody{"body",  0, true, "1", "body index into /metadata@body_names",
                                    "Scalar"};
+inline constexpr DatasetInfo kPlasticStrain{
+    "plastic_strain",
+    0,
+    false,
+    "1",
+    "accumulated equivalent plastic shear strain kappa = sum sqrt(2/3) |dev d eps^p| of the "
+    "converged state; 0 for points of elastic materials",
+    "Scalar"};
 
 // Post-processing datasets (output.stress_recovery, output.voxels).
 inline constexpr DatasetInfo kStressSmoothed{
@@ -327,6 +335,8 @@ inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& f
     out.push_back(kMaterial);
     out.push_back(kBody);
   }
+  if (has(OutputField::PlasticStrain))
+    out.push_back(kPlasticStrain);
   return out;
 }
 

@@ -271,6 +271,12 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
     check_size(post.stress->smoothed_stress.size(), n, "smoothed stress");
   if (post.voxels)
     check_size(post.voxels->corners.size(), n, "voxel corners");
+  if (std::find(fields.begin(), fields.end(), OutputField::PlasticStrain) != fields.end()) {
+    if (!post.plastic_strain)
+      throw std::invalid_argument(
+          "ResultsWriter::write_frame: field plastic_strain requested without its values");
+    check_size(post.plastic_strain->size(), n, "plastic strain");
+  }
 
   const auto& f = h5_path_;
   const std::string gname = h5::frame_group_name(frames_);
@@ -322,6 +328,8 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
       } else if (name == "stress") {
         for (std::size_t i = 0; i < un; ++i)
           append_tensor6(buf, p.stress[i]);
+      } else if (name == "plastic_strain") {
+        buf = *post.plastic_strain;
       }
       write_dataset(g.get(), gname, d, hn, buf, f);
     }

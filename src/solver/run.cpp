@@ -10,6 +10,7 @@
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/state_guard.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -123,6 +124,7 @@ struct Recorder {
   double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
   std::optional<StressRecovery> recovery{}; ///< made on the first frame, reused by the others
   Voxels voxels{};
+  std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
 
   /// Writes the current state as a frame, with the post-processing fields the case asks for:
   /// they are computed here, on output frames only.
@@ -141,6 +143,13 @@ struct Recorder {
       post.voxels = &voxels;
     }
     post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (std::find(out.fields.begin(), out.fields.end(), OutputField::PlasticStrain) !=
+        out.fields.end()) {
+      plastic_strain.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
+      for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
+      post.plastic_strain = &plastic_strain;
+    }
     writer.write_frame(step, t, scene.particles, out.fields, post);
     frame_at_current_step = true;
     last_frame_step = step;

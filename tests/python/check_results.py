@@ -36,6 +36,7 @@ FIELDS = {
     "stress": (6, 9, 6),
     "material": (0, 1, 1),
     "body": (0, 1, 1),
+    "plastic_strain": (0, 1, 1),
 }
 
 

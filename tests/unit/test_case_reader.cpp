@@ -560,9 +560,10 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
   expect_error(with(kCase, "side: top", "side: up"),
                {"case.yaml", 45, 25, "tractions[0].side",
                 "unknown value 'up' (allowed: left, right, bottom, top)"});
-  expect_error(with(kCase, "[velocity, F, stress]", "[velocity, f, stress]"),
-               {"case.yaml", 52, 22, "output.fields[1]",
-                "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material)"});
+  expect_error(
+      with(kCase, "[velocity, F, stress]", "[velocity, f, stress]"),
+      {"case.yaml", 52, 22, "output.fields[1]",
+       "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material, plastic_strain)"});
 }
 
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {
@@ -801,6 +802,28 @@ TEST(CaseReaderErrors, PlasticMaterialKeys) {
                {"case.yaml", 16, 21, "materials[0].dilation_angle", "dilation"});
   expect_error(with(mc, "poisson_ratio: 0.3", "poisson_ratio: 0.3\n    cohesion: 1.0e4"),
                {"case.yaml", 9, 5, "materials[0]", "missing required key 'friction_angle'"});
+}
+
+// plastic_strain is a field of the elasto-plastic models: asking for it in an all-elastic case
+// is an error at the list item; with a plastic material it is accepted, and on by default.
+TEST(CaseReaderErrors, PlasticStrainFieldNeedsAPlasticMaterial) {
+  const std::string asks =
+      with(kCase, "fields: [velocity, F, stress]", "fields: [velocity, F, plastic_strain]");
+  expect_error(asks, {"case.yaml", 52, 25, "output.fields[2]",
+                      "field 'plastic_strain' needs an elasto-plastic material"});
+  const std::string tresca = with(kCase, "model: linear_elastic", "model: tresca\n    cohesion: 5");
+  EXPECT_EQ(read_case_text(with(tresca, "fields: [velocity, F, stress]",
+                                "fields: [velocity, F, plastic_strain]"),
+                           "case.yaml")
+                .output.fields,
+            (std::vector<OutputField>{OutputField::Velocity, OutputField::DeformationGradient,
+                                      OutputField::PlasticStrain}));
+  const std::string no_fields = "  fields: [velocity, F, stress]\n";
+  const std::vector<OutputField> defaults =
+      read_case_text(with(tresca, no_fields, ""), "case.yaml").output.fields;
+  EXPECT_EQ(defaults.size(), 7u);
+  EXPECT_EQ(defaults.back(), OutputField::PlasticStrain);
+  EXPECT_EQ(read_case_text(with(kCase, no_fields, ""), "case.yaml").output.fields.size(), 6u);
 }
 
 } // namespace

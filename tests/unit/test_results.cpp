@@ -220,6 +220,37 @@ TEST(Results, OnlyRequestedFieldsAreWritten) {
   EXPECT_EQ(xmf.substr(frame1).find("stress"), std::string::npos);
 }
 
+// plastic_strain is written from the frame's gathered values (the materials' history), as a
+// scalar in run.h5 and in run.xmf; asking for it without values, or with the wrong count, is
+// the caller's error.
+TEST(Results, PlasticStrainIsWrittenFromTheFrameData) {
+  TempDir dir;
+  const auto p = make_particles(4, 0);
+  const std::vector<double> kappa = {0.0, 1.25e-3, 3.0 / 7.0, 2.0e-6};
+  {
+    ResultsWriter w(dir.path(), make_metadata());
+    FramePost post;
+    EXPECT_THROW(w.write_frame(0, 0, p, {OutputField::PlasticStrain}, post), std::invalid_argument);
+    const std::vector<double> short_list(3, 0.0);
+    post.plastic_strain = &short_list;
+    EXPECT_THROW(w.write_frame(0, 0, p, {OutputField::PlasticStrain}, post), std::invalid_argument);
+    post.plastic_strain = &kappa;
+    w.write_frame(0, 0, p, {OutputField::Stress, OutputField::PlasticStrain}, post);
+  }
+  ResultsReader r(dir.path() / "run.h5");
+  ASSERT_EQ(r.frame_count(), 1);
+  EXPECT_EQ(r.frame_fields(0), (std::vector<std::string>{"position", "stress", "plastic_strain"}));
+  Index rows = 0, cols = 0;
+  EXPECT_EQ(r.read(0, "plastic_strain", &rows, &cols), kappa); // bit for bit
+  EXPECT_EQ(rows, 4);
+  EXPECT_EQ(cols, 1);
+  const std::string xmf = slurp(dir.path() / "run.xmf");
+  EXPECT_NE(xmf.find("<Attribute Name=\"plastic_strain\" AttributeType=\"Scalar\""),
+            std::string::npos)
+      << xmf;
+  EXPECT_NE(xmf.find("run.h5:/frames/000000/plastic_strain"), std::string::npos);
+}
+
 TEST(Results, EveryFrameIsReadableWhileTheWriterIsAlive) {
   TempDir dir;
   ResultsWriter w(dir.path(), make_metadata());
@@ -303,14 +334,23 @@ TEST(Results, XdmfOpensInVtkReaders) {
   const Index n = 6;
   {
     ResultsWriter w(dir.path(), make_metadata());
-    for (int k = 0; k < 3; ++k)
-      w.write_frame(kSteps[k], kTimes[k], make_particles(n, k), kAllFields);
+    std::vector<OutputField> fields = kAllFields;
+    fields.push_back(OutputField::PlasticStrain);
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> kappa(static_cast<std::size_t>(n));
+      for (std::size_t i = 0; i < kappa.size(); ++i)
+        kappa[i] = 1e-3 * static_cast<double>(i + 1) / (k + 3.0);
+      FramePost post;
+      post.plastic_strain = &kappa;
+      w.write_frame(kSteps[k], kTimes[k], make_particles(n, k), fields, post);
+    }
   }
   const fs::path script = fs::path(TALUS_TESTS_DIR) / "python" / "check_results.py";
   ASSERT_TRUE(fs::exists(script)) << script;
   const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + dir.path().string() +
                           "' --particles " + std::to_string(n) +
-                          " --frames 3 --fields velocity,F,stress,mass,volume,material,body";
+                          " --frames 3 --fields velocity,F,stress,mass,volume,material,body," +
+                          "plastic_strain";
   const int status = std::system(cmd.c_str());
   ASSERT_NE(status, -1);
   ASSERT_TRUE(WIFEXITED(status)) << cmd;

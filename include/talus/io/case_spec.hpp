@@ -145,11 +145,23 @@ struct TimeSpec {
   std::optional<double> min_dt;
 };
 
-enum class OutputField { Velocity, Mass, Volume, DeformationGradient, Stress, Material };
+/// PlasticStrain: the accumulated equivalent plastic shear strain of the elasto-plastic models
+/// (only valid when the case has one).
+enum class OutputField {
+  Velocity,
+  Mass,
+  Volume,
+  DeformationGradient,
+  Stress,
+  Material,
+  PlasticStrain
+};
 
 struct OutputSpec {
   std::optional<Index> every_steps; ///< write a frame every N steps; default: 20 frames per run
   std::optional<double> every_time; ///< s, write a frame every interval
+  /// Default: the six kinematic and stress fields, plus plastic_strain when any material is
+  /// elasto-plastic (the reader adds it).
   std::vector<OutputField> fields{OutputField::Velocity, OutputField::Mass,
                                   OutputField::Volume,   OutputField::DeformationGradient,
                                   OutputField::Stress,   OutputField::Material};

@@ -30,11 +30,14 @@ struct RunMetadata {
   std::vector<std::string> body_names;
 };
 
-/// Post-processing results written with a frame when the case asks for them
-/// (output.stress_recovery, output.voxels); a null pointer writes nothing of that kind.
+/// Frame data gathered outside the particle arrays: post-processing results written when the
+/// case asks for them (output.stress_recovery, output.voxels; a null pointer writes nothing of
+/// that kind), and the plastic strain, which lives in the materials' history.
 struct FramePost {
   const RecoveredStress* stress = nullptr; ///< -> stress_smoothed and the grid/ group
   const Voxels* voxels = nullptr;          ///< -> the voxels/ group
+  /// One value per particle; required when the fields list plastic_strain.
+  const std::vector<double>* plastic_strain = nullptr;
 };
 
 /// Appends frames to run.h5 and keeps run.xmf in step. The file is opened and closed around
