@@ -2,7 +2,6 @@
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
-#include "talus/linalg/sparse_assembler.hpp"
 #include "talus/shape/shape_functions.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
@@ -10,6 +9,7 @@
 #include <chrono>
 #include <fmt/format.h>
 #include <limits>
+#include <stdexcept>
 
 namespace talus {
 
@@ -70,9 +70,7 @@ public:
   }
 
   NewtonReport step(double lambda_end, double ramp_end, double dt) override {
-    dt_ = dt;
-    prepare_step(lambda_end, ramp_end);
-    scale_by_prescribed_motion();
+    prepare(lambda_end, ramp_end, dt);
     NewtonOptions options;
     options.residual_scale = force_scale_;
     // The stress carries an absolute round-off of about eps * E (the strain comes from F - I),
@@ -125,86 +123,16 @@ public:
   // --- NonlinearSystem ----------------------------------------------------------------------
   Index size() const override { return dof_count_; }
 
+  // One share owning every node: local DOF ids are the global ones.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
-    if (!update_trial_state(du))
-      return false;
-    const auto& P = scene_.particles;
-    r = -external_;
-    if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
-      for (Index dof = 0; dof < dof_count_; ++dof)
-        r[dof] += dof_mass_[at(dof)] * newmark_acceleration(dof, du[dof]);
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = at(p);
-      const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
-      // V0 tau dF^-T: the first Piola stress of the step, times the reference volume.
-      const Mat3 G = P.volume0[s] * response_[s].kirchhoff * dF_inv.transpose();
-      const M G2 = G.topLeftCorner<Dim, Dim>();
-      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        const V f = G2 * grad;
-        for (int a = 0; a < Dim; ++a) {
-          const Index dof = dof_of(n, a);
-          if (dof >= 0)
-            r[dof] += f[a];
-        }
-      });
-    }
-    for_each_ghost_force(du, [&](Index n, int a, double f) {
-      if (const Index dof = dof_of(n, a); dof >= 0)
-        r[dof] += f;
-    });
-    return true;
+    return assemble_share(whole_, serial_map_, du, &r, nullptr);
   }
 
   const SparseMatrix& jacobian(const Eigen::VectorXd& du) override {
-    if (!state_matches(du) && !update_trial_state(du))
-      throw NumericalError("material update failed while assembling the tangent");
-    const auto& P = scene_.particles;
     assembler_.begin(dof_count_, /*new_structure=*/!structure_recorded_);
+    if (!assemble_share(whole_, serial_map_, du, nullptr, &assembler_))
+      throw NumericalError("material update failed while assembling the tangent");
     structure_recorded_ = true;
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = at(p);
-      const Eigen::Matrix<double, 4, 4> A = step_tangent(s);
-      // Nodes and gradients of this particle's stencil.
-      std::array<Index, ParticleGridMap<Dim, Shape>::kStencilSize> nodes{};
-      std::array<V, ParticleGridMap<Dim, Shape>::kStencilSize> grads{};
-      int k = 0;
-      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        nodes[static_cast<std::size_t>(k)] = n;
-        grads[static_cast<std::size_t>(k)] = grad;
-        ++k;
-      });
-      for (int i = 0; i < k; ++i)
-        for (int a = 0; a < Dim; ++a) {
-          const Index row = dof_of(nodes[static_cast<std::size_t>(i)], a);
-          if (row < 0)
-            continue;
-          const V& gi = grads[static_cast<std::size_t>(i)];
-          for (int j = 0; j < k; ++j)
-            for (int c = 0; c < Dim; ++c) {
-              const Index col = dof_of(nodes[static_cast<std::size_t>(j)], c);
-              if (col < 0)
-                continue;
-              const V& gj = grads[static_cast<std::size_t>(j)];
-              double value = 0;
-              for (int b = 0; b < Dim; ++b)
-                for (int d = 0; d < Dim; ++d)
-                  value += A(2 * a + b, 2 * c + d) * gi[b] * gj[d];
-              assembler_.add(row, col, P.volume0[s] * value);
-            }
-        }
-    }
-    const auto& G = GhostPenalty::face_matrix();
-    for (const auto& face : ghost_.faces())
-      for (int i = 0; i < GhostPenalty::kFaceNodes; ++i)
-        for (int j = 0; j < GhostPenalty::kFaceNodes; ++j)
-          for (int a = 0; a < Dim; ++a) {
-            const Index row = dof_of(face.nodes[at(i)], a), col = dof_of(face.nodes[at(j)], a);
-            if (row >= 0 && col >= 0)
-              assembler_.add(row, col, face.stiffness * G(i, j));
-          }
-    if (dynamic_)
-      for (Index dof = 0; dof < dof_count_; ++dof)
-        assembler_.add(dof, dof, 4.0 * dof_mass_[at(dof)] / (dt_ * dt_));
     const SparseMatrix& K = assembler_.finish();
     // Within a step the connectivity is fixed; a new step keeps the symbolic factorisation
     // when its pattern happens to match the last analysed one.
@@ -220,35 +148,186 @@ public:
 
   bool pattern_changed() const override { return pattern_changed_; }
 
+  // --- assembly by shares -------------------------------------------------------------------
+  void prepare(double lambda_end, double ramp_end, double dt) override {
+    dt_ = dt;
+    prepare_step(lambda_end, ramp_end);
+    whole_ = {0, 0, scene_.particles.size()};
+    const ParticleShare all[] = {whole_};
+    serial_map_ = dof_map(whole_, node_owners(all));
+    if (serial_map_.overlap_count() != dof_count_) // every unknown sits on a point's stencil
+      throw std::logic_error("the serial DOF map does not cover every unknown");
+    scale_by_prescribed_motion();
+  }
+
+  std::span<const Index> global_node_dofs() const override { return node_dof_; }
+
+  std::vector<int> node_owners(std::span<const ParticleShare> shares) const override {
+    std::vector<int> owner(at(scene_.grid.node_count()), -1);
+    for (const ParticleShare& share : shares)
+      for (Index p = share.begin; p < share.end; ++p)
+        map_.for_each_node_of(p, [&](Index n, double, const V&) {
+          int& o = owner[at(n)];
+          if (o < 0 || share.index < o)
+            o = share.index;
+        });
+    return owner;
+  }
+
+  std::vector<Index> touched_nodes(const ParticleShare& share,
+                                   std::span<const int> node_owner) const override {
+    std::vector<Index> nodes;
+    nodes.reserve(at(share.size() * ParticleGridMap<Dim, Shape>::kStencilSize));
+    for (Index p = share.begin; p < share.end; ++p)
+      map_.for_each_node_of(p, [&](Index n, double, const V&) { nodes.push_back(n); });
+    for (const auto& face : ghost_.faces())
+      if (node_owner[at(face_anchor(face))] == share.index)
+        nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    return nodes;
+  }
+
+  DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const override {
+    return DofMap(share.index, touched_nodes(share, node_owner), Dim, node_dof_, node_owner);
+  }
+
+  bool assemble_share(const ParticleShare& share, const DofMap& map,
+                      const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
+                      SparseAssembler* tangent) override {
+    if (!state_matches(share, du_overlap) && !update_trial_state(share, map, du_overlap))
+      return false;
+    if (residual)
+      assemble_residual(share, map, du_overlap, *residual);
+    if (tangent)
+      assemble_tangent(share, map, *tangent);
+    return true;
+  }
+
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
   double newmark_acceleration(Index dof, double du) const {
     return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
   }
   Index dof_of(Index node, int a) const { return node_dof_[at(2 * node + a)]; }
+  /// The face's first node on the face itself: the share owning it assembles the face.
+  static Index face_anchor(const GhostPenalty::Face& face) { return face.nodes[2]; }
+
+  /// The local DOF of component a of node n in the share's map; refuses a node outside it.
+  static Index local_dof(const DofMap& map, Index n, int a) {
+    const Index dof = map.local_dof(n, a);
+    if (dof == DofMap::kNotInOverlap)
+      throw std::invalid_argument(
+          fmt::format("share {} reaches grid node {}, which is not in its DOF map (a ghost node "
+                      "is missing from its overlap)",
+                      map.share(), n));
+    return dof;
+  }
+
   /// Calls f(node, component, force) with the ghost-penalty forces G du of every stabilised
-  /// face (prescribed components enter with their increments, held ones as zero).
-  template <class F> void for_each_ghost_force(const Eigen::VectorXd& du, F&& f) const {
+  /// face the map's share assembles (prescribed components enter with their increments, held
+  /// ones as zero).
+  template <class F>
+  void for_each_ghost_force(const DofMap& map, const Eigen::VectorXd& du, F&& f) const {
     const auto& G = GhostPenalty::face_matrix();
     for (const auto& face : ghost_.faces()) {
+      if (!map.owns_node(face_anchor(face)))
+        continue;
       Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> u;
       for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
-        u.row(k) = node_increment(face.nodes[at(k)], du).transpose();
+        u.row(k) = node_increment(map, face.nodes[at(k)], du).transpose();
       const Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> forces = face.stiffness * G * u;
       for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
         for (int a = 0; a < Dim; ++a)
           f(face.nodes[at(k)], a, forces(k, a));
     }
   }
-  /// The increment of node n: unknowns from du, prescribed components from the ramp, zero for
-  /// held components.
-  V node_increment(Index n, const Eigen::VectorXd& du) const {
+  /// The increment of node n: unknowns from du (local ids of map), prescribed components from
+  /// the ramp, zero for held components.
+  V node_increment(const DofMap& map, Index n, const Eigen::VectorXd& du) const {
     V u;
     for (int a = 0; a < Dim; ++a) {
-      const Index dof = dof_of(n, a);
+      const Index dof = local_dof(map, n, a);
       u[a] = dof >= 0 ? du[dof] : prescribed_du_[at(2 * n + a)];
     }
     return u;
+  }
+
+  // The share's residual: node terms of its owned DOFs (local ids [0, owned_count)), its
+  // points' internal forces and the ghost-penalty forces of its faces.
+  void assemble_residual(const ParticleShare& share, const DofMap& map, const Eigen::VectorXd& du,
+                         Eigen::VectorXd& r) const {
+    const auto& P = scene_.particles;
+    r.setZero(map.overlap_count());
+    const auto& gids = map.overlap_gids();
+    for (Index l = 0; l < map.owned_count(); ++l) {
+      const Index gid = gids[at(l)];
+      r[l] = -external_[gid];
+      if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
+        r[l] += dof_mass_[at(gid)] * newmark_acceleration(gid, du[l]);
+    }
+    for (Index p = share.begin; p < share.end; ++p) {
+      const auto s = at(p);
+      const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
+      // V0 tau dF^-T: the first Piola stress of the step, times the reference volume.
+      const Mat3 G = P.volume0[s] * response_[s].kirchhoff * dF_inv.transpose();
+      const M G2 = G.topLeftCorner<Dim, Dim>();
+      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
+        const V f = G2 * grad;
+        for (int a = 0; a < Dim; ++a)
+          if (const Index dof = local_dof(map, n, a); dof >= 0)
+            r[dof] += f[a];
+      });
+    }
+    for_each_ghost_force(map, du, [&](Index n, int a, double f) {
+      if (const Index dof = local_dof(map, n, a); dof >= 0)
+        r[dof] += f;
+    });
+  }
+
+  // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's DOFs,
+  // B mapping the nodal increments to grad(du) (row 2a+b: du_a/dx_b) and A = dG/d(dF) the
+  // step tangent; the ghost-penalty face blocks, per component; the Newmark mass of its owned
+  // DOFs.
+  void assemble_tangent(const ParticleShare& share, const DofMap& map,
+                        SparseAssembler& tangent) const {
+    constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
+    constexpr int kDofs = Dim * kNodes;
+    const auto& P = scene_.particles;
+    std::array<Index, kDofs> dofs{};
+    Eigen::Matrix<double, Dim * Dim, kDofs> B = Eigen::Matrix<double, Dim * Dim, kDofs>::Zero();
+    for (Index p = share.begin; p < share.end; ++p) {
+      const auto s = at(p);
+      int k = 0;
+      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
+        for (int a = 0; a < Dim; ++a) {
+          dofs[at(Dim * k + a)] = local_dof(map, n, a);
+          for (int b = 0; b < Dim; ++b)
+            B(Dim * a + b, Dim * k + a) = grad[b];
+        }
+        ++k;
+      });
+      const Eigen::Matrix<double, Dim * Dim, kDofs> AB = step_tangent(s) * B;
+      const Eigen::Matrix<double, kDofs, kDofs> K = P.volume0[s] * (B.transpose() * AB);
+      tangent.add_block(dofs, K);
+    }
+    const auto& G = GhostPenalty::face_matrix();
+    std::array<Index, GhostPenalty::kFaceNodes> face_dofs{};
+    for (const auto& face : ghost_.faces()) {
+      if (!map.owns_node(face_anchor(face)))
+        continue;
+      const GhostPenalty::FaceMatrix K = face.stiffness * G;
+      for (int a = 0; a < Dim; ++a) {
+        for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+          face_dofs[at(k)] = local_dof(map, face.nodes[at(k)], a);
+        tangent.add_block(face_dofs, K);
+      }
+    }
+    if (dynamic_) {
+      const auto& gids = map.overlap_gids();
+      for (Index l = 0; l < map.owned_count(); ++l)
+        tangent.add(l, l, 4.0 * dof_mass_[at(gids[at(l)])] / (dt_ * dt_));
+    }
   }
 
   // Connectivity at the step's start configuration, the unknowns, and the load vector.
@@ -336,7 +415,7 @@ private:
         modulus = std::max(modulus, m->lame().p_wave_modulus());
       force_scale_ = 1e-6 * modulus * scene_.grid.cell_size();
     }
-    state_du_.resize(0);
+    state_valid_ = false;
     structure_recorded_ = false;
   }
 
@@ -379,33 +458,45 @@ private:
     }
   }
 
-  // dF and F at the trial increment, and the material response there.
-  bool update_trial_state(const Eigen::VectorXd& du) {
+  // dF and F of the share's points at the trial increment (local ids of map), and the
+  // material response there.
+  bool update_trial_state(const ParticleShare& share, const DofMap& map,
+                          const Eigen::VectorXd& du) {
     const auto t0 = Clock::now();
     const auto& P = scene_.particles;
     trial_dF_.resize(at(P.size()));
-    for (Index p = 0; p < P.size(); ++p) {
+    state_valid_ = false;
+    for (Index p = share.begin; p < share.end; ++p) {
       M dF = M::Identity();
       map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        dF += node_increment(n, du) * grad.transpose();
+        dF += node_increment(map, n, du) * grad.transpose();
       });
       trial_dF_[at(p)] = dF;
       trial_F_[at(p)] = embed_plane_strain(dF * P.F[at(p)]);
     }
     try {
       for (std::size_t m = 0; m < scene_.materials.size(); ++m)
-        scene_.materials[m]->response(scene_.particles_of_material[m], trial_F_, response_);
+        scene_.materials[m]->response(points_of_material(m, share), trial_F_, response_);
     } catch (const NumericalError&) {
-      state_du_.resize(0);
       return false; // e.g. det F <= 0: Newton backtracks, the stepper may cut back
     }
+    state_valid_ = true;
+    state_share_ = share;
     state_du_ = du;
     seconds_particle_update_ += std::chrono::duration<double>(Clock::now() - t0).count();
     return true;
   }
 
-  bool state_matches(const Eigen::VectorXd& du) const {
-    return state_du_.size() == du.size() && state_du_ == du;
+  /// The share's points of material m (the material's list is ascending).
+  std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
+    const auto& ids = scene_.particles_of_material[m];
+    const auto first = std::lower_bound(ids.begin(), ids.end(), share.begin);
+    return {first, std::lower_bound(first, ids.end(), share.end)};
+  }
+
+  bool state_matches(const ParticleShare& share, const Eigen::VectorXd& du) const {
+    return state_valid_ && state_share_.begin == share.begin && state_share_.end == share.end &&
+           state_du_.size() == du.size() && state_du_ == du;
   }
 
   // d(tau dF^-T)/d(dF) restricted to the in-plane components, 4x4 with index 2a+b:
@@ -435,10 +526,8 @@ private:
 
   // Moves the points with the converged increment and stores their new state.
   void commit(const Eigen::VectorXd& du, double dt) {
-    if (dof_count_ > 0 && !state_matches(du) && !update_trial_state(du))
+    if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
       throw NumericalError("material update failed at the converged increment");
-    if (dof_count_ == 0)
-      update_trial_state(du);
     auto& P = scene_.particles;
     // Reactions: the internal force that the constrained components carry beyond the loads.
     std::vector<double> internal(full_external_.size(), 0.0);
@@ -452,7 +541,7 @@ private:
         const V f = G2 * grad;
         for (int a = 0; a < Dim; ++a)
           internal[at(2 * n + a)] += f[a];
-        dx += w * node_increment(n, du);
+        dx += w * node_increment(serial_map_, n, du);
       });
       const Mat3& F = trial_F_[s];
       const double J = F.determinant();
@@ -481,7 +570,8 @@ private:
     }
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
-    for_each_ghost_force(du, [&](Index n, int a, double f) { internal[at(2 * n + a)] += f; });
+    for_each_ghost_force(serial_map_, du,
+                         [&](Index n, int a, double f) { internal[at(2 * n + a)] += f; });
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec2::Zero());
     for (const Index n : map_.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
@@ -523,7 +613,11 @@ private:
   std::vector<M> trial_dF_;
   std::vector<Mat3> trial_F_;
   std::vector<StressTangent> response_;
+  bool state_valid_ = false;  ///< trial_dF_, trial_F_, response_ hold state_share_ at state_du_
+  ParticleShare state_share_; ///< the points the trial state was last evaluated for
   Eigen::VectorXd state_du_;
+  ParticleShare whole_; ///< every point: the serial solver's one share
+  DofMap serial_map_;   ///< whole_'s DOF map: local ids are the global ones
   SparseAssembler assembler_;
   bool structure_recorded_ = false; ///< the assembler holds this step's structure
   SparseMatrix previous_pattern_;   ///< the last tangent whose pattern was analysed

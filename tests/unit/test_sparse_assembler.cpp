@@ -1,12 +1,13 @@
 // SparseAssembler (include/talus/linalg/sparse_assembler.hpp): a replayed pass gives the same
-// matrix as a freshly recorded one, and a pass with a different number of contributions is
-// refused.
+// matrix as a freshly recorded one, a dense block adds exactly what its entries would, and a
+// pass with a different number of contributions or a block of the wrong size is refused.
 #include "talus/linalg/sparse_assembler.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 using talus::Index;
 using talus::SparseAssembler;
@@ -23,7 +24,58 @@ void stream(SparseAssembler& a, std::mt19937& rng) {
         a.add(i, j, value(rng));
 }
 
+// Element blocks over overlapping DOF lists, some DOFs negative (no unknown), added as blocks
+// or, when `as_entries`, entry by entry in the block's (column-major) order.
+void block_stream(SparseAssembler& a, std::mt19937& rng, bool as_entries) {
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  for (Index e = 0; e < 20; ++e) {
+    const std::vector<Index> dofs = {e, e + 1, e % 3 == 0 ? -1 : e + 2, e + 3};
+    Eigen::MatrixXd block(4, 4);
+    for (Eigen::Index k = 0; k < block.size(); ++k)
+      block.data()[k] = value(rng);
+    if (!as_entries) {
+      a.add_block(dofs, block);
+      continue;
+    }
+    for (std::size_t j = 0; j < dofs.size(); ++j)
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        if (dofs[i] >= 0 && dofs[j] >= 0)
+          a.add(dofs[i], dofs[j],
+                block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+  }
+}
+
 } // namespace
+
+TEST(SparseAssembler, BlocksEqualTheirEntries) {
+  SparseAssembler blocks, entries;
+  for (int pass = 0; pass < 3; ++pass) { // one recording, then replays
+    std::mt19937 values(10 + pass), values_copy(10 + pass);
+    blocks.begin(23, pass == 0);
+    block_stream(blocks, values, false);
+    const talus::SparseMatrix A = blocks.finish();
+    EXPECT_EQ(blocks.recorded(), pass == 0);
+    entries.begin(23, pass == 0);
+    block_stream(entries, values_copy, true);
+    const talus::SparseMatrix B = entries.finish();
+    ASSERT_EQ(A.nonZeros(), B.nonZeros());
+    // The same sums in the same order: bitwise equal.
+    EXPECT_EQ((talus::SparseMatrix(A - B)).cwiseAbs().sum(), 0.0);
+  }
+}
+
+TEST(SparseAssembler, RefusesAWrongBlockOrALongerReplay) {
+  SparseAssembler a;
+  std::mt19937 rng(5);
+  a.begin(23, true);
+  const std::vector<Index> three = {0, 1, 2};
+  EXPECT_THROW(a.add_block(three, Eigen::MatrixXd::Zero(2, 2)), std::invalid_argument);
+  block_stream(a, rng, false);
+  a.finish();
+  a.begin(23, false);
+  block_stream(a, rng, false);
+  EXPECT_THROW(a.add_block(three, Eigen::MatrixXd::Zero(3, 3)), std::logic_error);
+}
 
 TEST(SparseAssembler, ReplayEqualsRecording) {
   SparseAssembler replayed, fresh;

@@ -8,12 +8,26 @@
 // configuration at the start of the step (updated Lagrangian): dF = I + grad(du), F = dF F_n,
 // and f_int,i = sum_p V0_p tau_p dF_p^-T grad N_i(x_p^n), whose derivative contains both the
 // material and the geometric (initial-stress) stiffness.
+//
+// Assembly by shares: R and K are sums of terms that each belong to one share of the points
+// (ParticleShare), assembled on the share's overlapping DOF map (DofMap) in local ids:
+//   - its points' internal forces and tangent blocks K_p = V0 B^T A B;
+//   - the node terms (loads, Newmark inertia) of the nodes it owns;
+//   - the ghost-penalty faces whose first on-face node it owns.
+// Scattered to global DOFs and summed over the shares they give the one-process R and K (the
+// serial solver is one share owning every node); a later issue runs each share on its own MPI
+// rank and sums with a Tpetra Export (ADD). prepare() is still global: connectivity, unknowns,
+// node masses and loads are computed for all points.
 #include "talus/core/scene.hpp"
+#include "talus/linalg/dof_map.hpp"
+#include "talus/linalg/sparse_assembler.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/newton.hpp"
+#include "talus/solver/particle_share.hpp"
 
 #include <array>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace talus {
@@ -33,6 +47,31 @@ public:
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
   virtual double seconds_particle_update() const = 0;
+
+  // --- assembly by shares (step() runs them as one share) -----------------------------------
+  /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
+  /// step's start, the global DOF numbering (unknowns() of them), node masses and loads.
+  virtual void prepare(double lambda_end, double ramp_end, double dt) = 0;
+  /// The global DOF of component a of grid node n at 2 n + a, negative for none (held,
+  /// prescribed or massless).
+  virtual std::span<const Index> global_node_dofs() const = 0;
+  /// Per grid node, the share that owns it: the lowest-indexed share whose points reach it;
+  /// -1 for nodes no point reaches.
+  virtual std::vector<int> node_owners(std::span<const ParticleShare> shares) const = 0;
+  /// The grid nodes the share's assembly reaches, ascending: its points' stencils and the
+  /// nodes of the ghost-penalty faces it assembles (those whose first on-face node it owns).
+  virtual std::vector<Index> touched_nodes(const ParticleShare& share,
+                                           std::span<const int> node_owner) const = 0;
+  /// The share's DOF map over its touched nodes, numbered by the step's global DOFs.
+  virtual DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const = 0;
+  /// Evaluates the share's points at the increment du_overlap (the share's DOFs in the local
+  /// ids of `map`; the prescribed components follow the step's ramp) and assembles the share's
+  /// residual (sized and set to the overlap DOFs) and/or tangent (added to a pass the caller
+  /// began over map.overlap_count() DOFs); either may be null. Returns false if a material
+  /// update failed. Throws std::invalid_argument if the share reaches a node outside `map`.
+  virtual bool assemble_share(const ParticleShare& share, const DofMap& map,
+                              const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
+                              SparseAssembler* tangent) = 0;
 };
 
 std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene);

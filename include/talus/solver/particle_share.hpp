@@ -1,0 +1,28 @@
+#pragma once
+// A share of the material points: the contiguous range [begin, end) of particle indices one
+// process assembles (its own points), with the share's index. The serial solver is one share
+// holding every point; a later issue gives each MPI rank its own.
+#include "talus/core/types.hpp"
+
+#include <vector>
+
+namespace talus {
+
+struct ParticleShare {
+  int index = 0;
+  Index begin = 0;
+  Index end = 0;
+
+  Index size() const { return end - begin; }
+  bool contains(Index p) const { return p >= begin && p < end; }
+};
+
+/// `count` contiguous shares of near-equal size covering the points [0, particle_count).
+inline std::vector<ParticleShare> split_particles(Index particle_count, int count) {
+  std::vector<ParticleShare> shares;
+  for (int s = 0; s < count; ++s)
+    shares.push_back({s, particle_count * s / count, particle_count * (s + 1) / count});
+  return shares;
+}
+
+} // namespace talus

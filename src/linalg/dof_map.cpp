@@ -1,0 +1,75 @@
+#include "talus/linalg/dof_map.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <stdexcept>
+#include <utility>
+
+namespace talus {
+
+DofMap::DofMap(int share, std::vector<Index> overlap_nodes, int dim,
+               std::span<const Index> global_node_dofs, std::span<const int> node_owner)
+    : share_(share), dim_(dim), nodes_(std::move(overlap_nodes)) {
+  const auto node_count = static_cast<Index>(node_owner.size());
+  if (dim <= 0 || global_node_dofs.size() != at(dim * node_count))
+    throw std::invalid_argument(
+        fmt::format("DofMap: {} global DOF slots for {} nodes of dimension {}",
+                    global_node_dofs.size(), node_count, dim));
+  std::sort(nodes_.begin(), nodes_.end());
+  nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
+  node_state_.assign(node_owner.size(), kOutside);
+  local_dofs_.assign(global_node_dofs.size(), kNotInOverlap);
+  // (global id, slot in local_dofs_) of the owned DOFs and of the ghosts, numbered below.
+  std::vector<std::pair<Index, std::size_t>> owned, ghosts;
+  for (const Index n : nodes_) {
+    if (n < 0 || n >= node_count)
+      throw std::invalid_argument(fmt::format(
+          "DofMap: share {} lists node {} outside the grid's {} nodes", share, n, node_count));
+    const int owner = node_owner[at(n)];
+    if (owner < 0)
+      throw std::invalid_argument(
+          fmt::format("DofMap: node {} of share {} has no owning share", n, share));
+    node_state_[at(n)] = owner == share ? kOwned : kGhost;
+    for (int a = 0; a < dim; ++a) {
+      const std::size_t slot = at(dim * n + a);
+      local_dofs_[slot] = kNoDof;
+      if (const Index gid = global_node_dofs[slot]; gid >= 0)
+        (owner == share ? owned : ghosts).emplace_back(gid, slot);
+    }
+  }
+  std::sort(owned.begin(), owned.end());
+  std::sort(ghosts.begin(), ghosts.end());
+  owned_count_ = static_cast<Index>(owned.size());
+  gids_.reserve(owned.size() + ghosts.size());
+  for (const auto* part : {&owned, &ghosts})
+    for (const auto& [gid, slot] : *part) {
+      local_dofs_[slot] = static_cast<Index>(gids_.size());
+      gids_.push_back(gid);
+    }
+}
+
+Eigen::VectorXd DofMap::restrict_to_overlap(const Eigen::VectorXd& global) const {
+  Eigen::VectorXd local(overlap_count());
+  for (std::size_t l = 0; l < gids_.size(); ++l)
+    local[static_cast<Eigen::Index>(l)] = global[gids_[l]];
+  return local;
+}
+
+void DofMap::add_to_global(const Eigen::VectorXd& local, Eigen::VectorXd& global) const {
+  for (std::size_t l = 0; l < gids_.size(); ++l)
+    global[gids_[l]] += local[static_cast<Eigen::Index>(l)];
+}
+
+void DofMap::add_to_global(const SparseMatrix& local, SparseMatrix& global) const {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(local.nonZeros()));
+  for (int col = 0; col < local.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(local, col); it; ++it)
+      entries.emplace_back(static_cast<int>(gids_[at(it.row())]),
+                           static_cast<int>(gids_[at(it.col())]), it.value());
+  SparseMatrix scattered(global.rows(), global.cols());
+  scattered.setFromTriplets(entries.begin(), entries.end());
+  global += scattered;
+}
+
+} // namespace talus
