@@ -2,6 +2,7 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/core/expression.hpp"
+#include "talus/core/splitting.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -314,6 +315,7 @@ Scene<2> build_scene(const CaseSpec& spec) {
         .push_back(p);
 
   apply_initial_stress(scene);
+  enable_splitting(scene);
 
   for (const PointLoadSpec& load : spec.point_loads) {
     const Index p = nearest_particle(scene.particles, load.point);

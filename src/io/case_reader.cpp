@@ -341,6 +341,7 @@ private:
   static std::vector<std::string> solver_keys();
   BodySpec::InitialStress initial_stress(const Item& it, const BodySpec& b,
                                          const CaseSpec& spec) const;
+  SplitSpec split(const Item& it) const;
 
   /// Remembers names of one kind and rejects a repeat.
   class UniqueNames {
@@ -620,6 +621,41 @@ void Validator::plastic_parameters(const Map& m, const Item& model_item, Materia
   }
 }
 
+SplitSpec Validator::split(const Item& it) const {
+  const Map m(*this, it, {"alpha", "beta", "gamma", "max_generations", "min_size"});
+  SplitSpec s;
+  if (m.has("alpha")) {
+    const Item alpha = m["alpha"];
+    s.alpha = number(alpha);
+    if (!(s.alpha > 1.0))
+      fail(alpha, "must be > 1: a stretch limit (got " + alpha.node.Scalar() + ")");
+  }
+  if (m.has("beta")) {
+    const Item beta = m["beta"];
+    s.beta = number(beta);
+    if (!(s.beta > 0.0 && s.beta < 1.0))
+      fail(beta, "must be in the open interval (0, 1): a compression limit (got " +
+                     beta.node.Scalar() + ")");
+  }
+  if (m.has("gamma"))
+    s.gamma = positive(m["gamma"]);
+  if (m.has("max_generations")) {
+    const Item gen = m["max_generations"];
+    const Index n = integer(gen);
+    // 2^30 descendants of one point is far beyond any memory; the cap keeps the count in int.
+    if (n < 0 || n > 30)
+      fail(gen, "must be an integer from 0 to 30 (got " + gen.node.Scalar() + ")");
+    s.max_generations = static_cast<int>(n);
+  }
+  if (m.has("min_size")) {
+    const Item size = m["min_size"];
+    s.min_size = number(size);
+    if (!(s.min_size >= 0.0))
+      fail(size, "must be >= 0 m (got " + size.node.Scalar() + ")");
+  }
+  return s;
+}
+
 std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) const {
   const std::vector<Item> items = list(it);
   if (items.empty())
@@ -633,7 +669,7 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
   for (const Item& item : items) {
     const Map m(*this, item,
                 {"name", "material", "shape", "centre", "radius", "min", "max", "vertices",
-                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress"});
+                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress", "split"});
     BodySpec b;
     b.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -670,6 +706,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
     body_inside_grid(m, b, spec.grid);
     if (m.present("initial_stress"))
       b.initial_stress = initial_stress(m["initial_stress"], b, spec);
+    if (m.present("split"))
+      b.split = split(m["split"]);
     out.push_back(std::move(b));
   }
   return out;

@@ -120,6 +120,20 @@ void PlasticMaterial::set_initial_stress(std::span<const Index> ids, std::span<c
   }
 }
 
+void PlasticMaterial::append_copies(Index old_count, std::span<const Index> sources) {
+  if (converged_.empty())
+    return; // never evaluated: every point, old or new, starts from the initial state
+  reserve_points(static_cast<std::size_t>(old_count));
+  for (const Index id : sources) {
+    const auto p = static_cast<std::size_t>(id);
+    converged_.push_back(converged_[p]);
+    trial_.push_back(trial_[p]);
+    converged_F_.push_back(converged_F_[p]);
+    trial_F_.push_back(trial_F_[p]);
+    trial_return_.push_back(trial_return_[p]);
+  }
+}
+
 std::unique_ptr<PlasticModel> make_plastic_model(const MaterialSpec& spec) {
   const LameParameters lame = checked_lame_parameters(spec.youngs_modulus, spec.poisson_ratio);
   FrictionalStrengthParameters strength;

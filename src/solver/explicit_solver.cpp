@@ -29,8 +29,7 @@ public:
     velocity_.assign(nn, V::Zero());
     acceleration_.assign(nn, V::Zero());
     const auto& P = scene.particles;
-    const double min_mass = P.size() ? *std::min_element(P.mass.begin(), P.mass.end()) : 1.0;
-    tiny_mass_ = kTinyNodeMassFraction * min_mass;
+    set_tiny_mass();
     for (auto& r : reactions_)
       r.setZero();
     apic_ = scene.spec.solver.transfer == TransferScheme::Apic;
@@ -92,7 +91,16 @@ public:
     return find_node_violation(scene_.grid, active(), acceleration_, "grid acceleration");
   }
 
+  // The map and the grid arrays are rebuilt every step; only the mass threshold depends on the
+  // points (children are lighter than their parent).
+  void particles_changed() override { set_tiny_mass(); }
+
 private:
+  void set_tiny_mass() {
+    const auto& P = scene_.particles;
+    const double min_mass = P.size() ? *std::min_element(P.mass.begin(), P.mass.end()) : 1.0;
+    tiny_mass_ = kTinyNodeMassFraction * min_mass;
+  }
   const std::vector<Index>& active() const { return map_.active_nodes(); }
   V node_position(Index n) const { return scene_.grid.node_position(scene_.grid.node_ijk(n)); }
 

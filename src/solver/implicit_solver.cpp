@@ -119,6 +119,14 @@ public:
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
   Index unknowns() const override { return dof_count_; }
   double seconds_particle_update() const override { return seconds_particle_update_; }
+  // The per-point trial state (the Newmark acceleration lives in the particles, which resize
+  // it themselves); the map and the DOF numbering are rebuilt at the start of every step.
+  void particles_changed() override {
+    const auto np = at(scene_.particles.size());
+    trial_F_.resize(np, Mat3::Identity());
+    trial_dF_.resize(np, M::Identity());
+    response_.resize(np);
+  }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
   Index size() const override { return dof_count_; }

@@ -2,6 +2,7 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
+#include "talus/core/splitting.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
 #include "talus/post/stress_recovery.hpp"
@@ -59,9 +60,9 @@ bool face_constrained(const BoundarySpec& bc, int face) {
 }
 
 std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
-  std::vector<std::string> cols = {"time",           "step",          "dt",
-                                   "kinetic_energy", "strain_energy", "gravity_energy",
-                                   "total_energy",   "momentum_x",    "momentum_y"};
+  std::vector<std::string> cols = {
+      "time",           "step",         "dt",         "kinetic_energy", "strain_energy",
+      "gravity_energy", "total_energy", "momentum_x", "momentum_y",     "particles"};
   for (int f = 0; f < kFaceCount; ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       cols.push_back(fmt::format("reaction_{}_x", face_name(f)));
@@ -89,7 +90,8 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
                              e.gravity,
                              e.kinetic + e.strain + e.gravity,
                              e.momentum.x(),
-                             e.momentum.y()};
+                             e.momentum.y(),
+                             static_cast<double>(scene.particles.size())};
   for (int f = 0; f < kFaceCount; ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       row.push_back(reactions[static_cast<std::size_t>(f)].x());
@@ -209,6 +211,16 @@ void check_limits(const TimeSpec& time, const LoopState& s) {
 // one, so round-off never produces a sliver step at an output time or the end.
 constexpr double kSliver = 1e-9;
 
+/// Splits the points that meet their body's criterion after a completed step (a converged one
+/// in the implicit analyses), so every step starts from a consistent set of points.
+template <class Solver> void split_after_step(Scene<2>& scene, Solver& solver, RunResult& result) {
+  const Index splits = split_particles(scene);
+  if (splits == 0)
+    return;
+  solver.particles_changed();
+  result.extra["splits"] += static_cast<double>(splits);
+}
+
 /// Explicit dynamics: CFL or fixed steps until end_time.
 void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result) {
   auto solver = make_explicit_solver(scene);
@@ -248,6 +260,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     guard();
     s.t = t_end;
     ++s.step;
+    split_after_step(scene, *solver, result);
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
       throw NumericalError("non-finite energy");
@@ -336,6 +349,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       max_iterations = std::max<Index>(max_iterations, r.iterations);
       s.t = t_end;
       ++s.step;
+      split_after_step(scene, *solver, result);
       if (r.iterations <= 4 && ++easy_steps >= 2) {
         dt = std::min(2.0 * dt, dt0);
         easy_steps = 0;
@@ -405,6 +419,10 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   LoopState state;
   result.status = "completed";
   result.particles = scene.particles.size();
+  if (splitting_requested(spec)) {
+    result.extra["particles_initial"] = static_cast<double>(scene.particles.size());
+    result.extra["splits"] = 0.0;
+  }
   recorder.write_frame(0, 0.0);
   try {
     if (spec.analysis == AnalysisType::Explicit)
@@ -424,6 +442,8 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   }
   if (out.stress_recovery || out.voxels)
     result.extra["seconds_post_processing"] = recorder.post_seconds;
+  // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).
+  result.particles = scene.particles.size();
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 

@@ -828,3 +828,55 @@ TEST(CaseReaderErrors, PlasticStrainFieldNeedsAPlasticMaterial) {
 
 } // namespace
 } // namespace talus
+
+namespace talus {
+namespace {
+
+// bodies[].split: defaults, every key, and each bad value at its key (file or --set).
+TEST(CaseReader, SplitBlock) {
+  const CaseSpec none = read_case_text(kCase, "case.yaml");
+  EXPECT_FALSE(none.bodies[0].split.has_value());
+  const CaseSpec defaults = read_case_text(kCase, "case.yaml", {"bodies.lower.split={}"});
+  ASSERT_TRUE(defaults.bodies[0].split.has_value());
+  EXPECT_EQ(defaults.bodies[0].split->alpha, 2.0);
+  EXPECT_EQ(defaults.bodies[0].split->beta, 0.5);
+  EXPECT_EQ(defaults.bodies[0].split->gamma, 1.0);
+  EXPECT_EQ(defaults.bodies[0].split->max_generations, 3);
+  EXPECT_EQ(defaults.bodies[0].split->min_size, 0.0);
+  EXPECT_FALSE(defaults.bodies[1].split.has_value());
+  const CaseSpec c = read_case_text(
+      kCase, "case.yaml",
+      {"bodies.upper.split={alpha: 3, beta: 0.25, gamma: 0.5, max_generations: 30, "
+       "min_size: 0.01}"});
+  ASSERT_TRUE(c.bodies[1].split.has_value());
+  EXPECT_EQ(c.bodies[1].split->alpha, 3.0);
+  EXPECT_EQ(c.bodies[1].split->beta, 0.25);
+  EXPECT_EQ(c.bodies[1].split->gamma, 0.5);
+  EXPECT_EQ(c.bodies[1].split->max_generations, 30);
+  EXPECT_EQ(c.bodies[1].split->min_size, 0.01);
+}
+
+TEST(CaseReaderErrors, SplitValues) {
+  const std::string file = with(kCase, "    velocity: [7, -7]\n",
+                                "    velocity: [7, -7]\n    split: {alpha: 0.5}\n");
+  expect_error(file, {"case.yaml", 26, 20, "bodies[0].split.alpha", "must be > 1"});
+  const struct {
+    std::string set, key, message;
+  } bad[] = {
+      {"beta: 1", "beta", "must be in the open interval (0, 1)"},
+      {"beta: 0", "beta", "must be in the open interval (0, 1)"},
+      {"gamma: 0", "gamma", "must be > 0"},
+      {"max_generations: 31", "max_generations", "must be an integer from 0 to 30"},
+      {"max_generations: -1", "max_generations", "must be an integer from 0 to 30"},
+      {"max_generations: 1.5", "max_generations", "integer"},
+      {"min_size: -0.1", "min_size", "must be >= 0"},
+      {"alpha: .nan", "alpha", "finite"},
+      {"delta: 1", "delta", "unknown key 'delta'"},
+  };
+  for (const auto& b : bad)
+    expect_error(kCase, {"--set", 0, 0, "bodies[0].split." + b.key, b.message},
+                 {"bodies.lower.split={" + b.set + "}"});
+}
+
+} // namespace
+} // namespace talus

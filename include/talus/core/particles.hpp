@@ -23,6 +23,10 @@ template <int Dim> struct Particles {
   // --- optional blocks (empty unless the scene needs them) -------------------------------------
   Array<Mat<Dim>> affine_velocity; ///< APIC's C_p = B_p D_p^-1 (transfer apic only)
   Array<Vec<Dim>> acceleration;    ///< m/s^2, Newmark state (implicit_dynamic only)
+  /// Splitting (a body with a `split` block, core/splitting.hpp): F0^-1, the inverse of F when
+  /// the point was made, so F^split = F F0^-1 needs no evolution of its own.
+  Array<Mat<Dim>> split_origin_inverse;
+  Array<int> split_generation; ///< splits in the point's ancestry (0: generated from a body)
 
   Index size() const { return static_cast<Index>(x.size()); }
 
@@ -44,6 +48,39 @@ template <int Dim> struct Particles {
       affine_velocity.resize(s, Mat<Dim>::Zero());
     if (!acceleration.empty())
       acceleration.resize(s, Vec<Dim>::Zero());
+    if (!split_origin_inverse.empty())
+      split_origin_inverse.resize(s, Mat<Dim>::Identity());
+    if (!split_generation.empty())
+      split_generation.resize(s, 0);
+  }
+
+  /// Appends a copy of point p (every allocated field) and returns the new index.
+  Index append_copy(Index p) {
+    const auto from = static_cast<std::size_t>(p);
+    const Index q = size();
+    resize(q + 1);
+    const auto to = static_cast<std::size_t>(q);
+    x[to] = x[from];
+    v[to] = v[from];
+    mass[to] = mass[from];
+    volume0[to] = volume0[from];
+    volume[to] = volume[from];
+    F[to] = F[from];
+    stress[to] = stress[from];
+    half_size0[to] = half_size0[from];
+    x0[to] = x0[from];
+    material[to] = material[from];
+    body[to] = body[from];
+    external_force[to] = external_force[from];
+    if (!affine_velocity.empty())
+      affine_velocity[to] = affine_velocity[from];
+    if (!acceleration.empty())
+      acceleration[to] = acceleration[from];
+    if (!split_origin_inverse.empty())
+      split_origin_inverse[to] = split_origin_inverse[from];
+    if (!split_generation.empty())
+      split_generation[to] = split_generation[from];
+    return q;
   }
 };
 

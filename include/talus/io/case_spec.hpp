@@ -72,6 +72,18 @@ struct MaterialSpec {
   SourceLocation where;
 };
 
+/// Material-point splitting of a body (Andersen 2013; docs/case-format.md, bodies.split).
+/// F^split = F F0^-1 is the deformation since the point was made (F0 its F then); the point
+/// splits in two when F^split_11 or F^split_22 leaves [beta, alpha] or |F^split_12| or
+/// |F^split_21| exceeds gamma.
+struct SplitSpec {
+  double alpha = 2.0;      ///< stretch limit, > 1
+  double beta = 0.5;       ///< compression limit, in (0, 1)
+  double gamma = 1.0;      ///< shear limit, > 0
+  int max_generations = 3; ///< splits in a point's ancestry, 0 to 30
+  double min_size = 0.0;   ///< m, no child whose deformed edge across the cut is shorter
+};
+
 struct BodySpec {
   std::string name; ///< required, unique
   BodyShape shape = BodyShape::Rectangle;
@@ -100,6 +112,7 @@ struct BodySpec {
   };
   std::optional<InitialStress> initial_stress;
   double angular_velocity = 0; ///< rad/s, initial rigid spin about the body's centroid (default 0)
+  std::optional<SplitSpec> split; ///< absent: the body's points never split
   SourceLocation where;
 };
 

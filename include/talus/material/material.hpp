@@ -69,6 +69,10 @@ public:
   /// Starts the points in ids from the Cauchy stresses stress[ids[k]] at F = I (geostatic
   /// initial stress). Throws InputError naming the point if a stress is not admissible.
   virtual void set_initial_stress(std::span<const Index> ids, std::span<const Mat3> stress);
+  /// The scene appended points old_count, old_count + 1, ... as copies of the points in
+  /// `sources` (material-point splitting): per-point history is copied the same way. History
+  /// is indexed by the scene's point index, so this covers every point, of any material.
+  virtual void append_copies(Index /*old_count*/, std::span<const Index> /*sources*/) {}
 
 private:
   std::string name_;

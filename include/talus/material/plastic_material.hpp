@@ -32,6 +32,7 @@ public:
   bool plastic() const override { return true; }
   void plastic_strain(std::span<const Index> ids, std::span<double> out) const override;
   void set_initial_stress(std::span<const Index> ids, std::span<const Mat3> stress) override;
+  void append_copies(Index old_count, std::span<const Index> sources) override;
 
   const PlasticModel& model() const { return *model_; }
   /// The return the last evaluation took at point p (elastic, surface, edge, apex).

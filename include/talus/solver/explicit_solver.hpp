@@ -30,6 +30,9 @@ public:
   /// The state guard's look at the grid of the last step: the first active node whose
   /// velocity or acceleration is not finite.
   virtual std::optional<StateViolation> grid_violation() const = 0;
+  /// The scene's points were added to (splitting, core/splitting.hpp) between steps: resizes
+  /// whatever the solver keeps per point.
+  virtual void particles_changed() = 0;
 };
 
 /// Picks the shape-function instantiation once, for the whole run.

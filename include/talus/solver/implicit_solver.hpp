@@ -47,6 +47,9 @@ public:
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
   virtual double seconds_particle_update() const = 0;
+  /// The scene's points were added to (splitting, core/splitting.hpp) after a converged step:
+  /// resizes the per-point trial state.
+  virtual void particles_changed() = 0;
 
   // --- assembly by shares (step() runs them as one share) -----------------------------------
   /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
