@@ -86,7 +86,7 @@ void move_surface_loads(std::vector<SurfaceLoad>& loads, Index p, Index q, int a
 
 } // namespace
 
-Index split_particles(Scene<2>& scene) {
+Index split_material_points(Scene<2>& scene) {
   auto& P = scene.particles;
   if (P.split_generation.empty())
     return 0;

@@ -126,6 +126,7 @@ public:
     trial_F_.resize(np, Mat3::Identity());
     trial_dF_.resize(np, M::Identity());
     response_.resize(np);
+    state_valid_ = false; // the cached trial state belonged to the old point set
   }
 
   // --- NonlinearSystem ----------------------------------------------------------------------

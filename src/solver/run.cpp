@@ -214,7 +214,7 @@ constexpr double kSliver = 1e-9;
 /// Splits the points that meet their body's criterion after a completed step (a converged one
 /// in the implicit analyses), so every step starts from a consistent set of points.
 template <class Solver> void split_after_step(Scene<2>& scene, Solver& solver, RunResult& result) {
-  const Index splits = split_particles(scene);
+  const Index splits = split_material_points(scene);
   if (splits == 0)
     return;
   solver.particles_changed();

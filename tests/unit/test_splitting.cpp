@@ -239,7 +239,7 @@ TEST(Splitting, StopsAtMaxGenerations) {
   const std::vector<Index> expected = {16, 32, 32, 32};
   for (const Index want : expected) {
     deform_all(scene, mat(2.5, 0, 0, 1));
-    split_particles(scene);
+    split_material_points(scene);
     EXPECT_EQ(count_body(scene, 0), want);
   }
   // The body without a split block never splits, however stretched.
@@ -252,10 +252,10 @@ TEST(Splitting, MinSizeKeepsSmallChildrenFromForming) {
   // Half-width 0.025 stretched 2.5 times: a child 0.0625 across the cut.
   Scene<2> small = blocks({"bodies.a.split.min_size=0.07"});
   deform_all(small, mat(2.5, 0, 0, 1));
-  EXPECT_EQ(split_particles(small), 0);
+  EXPECT_EQ(split_material_points(small), 0);
   Scene<2> large = blocks({"bodies.a.split.min_size=0.06"});
   deform_all(large, mat(2.5, 0, 0, 1));
-  EXPECT_EQ(split_particles(large), 8);
+  EXPECT_EQ(split_material_points(large), 8);
 }
 
 TEST(Splitting, BodiesWithoutASplitBlockAllocateNothingAndNeverSplit) {
@@ -263,7 +263,7 @@ TEST(Splitting, BodiesWithoutASplitBlockAllocateNothingAndNeverSplit) {
   EXPECT_TRUE(scene.particles.split_origin_inverse.empty());
   EXPECT_TRUE(scene.particles.split_generation.empty());
   deform_all(scene, mat(3, 0, 0, 1));
-  EXPECT_EQ(split_particles(scene), 0);
+  EXPECT_EQ(split_material_points(scene), 0);
   EXPECT_EQ(scene.particles.size(), 16);
 }
 
@@ -282,7 +282,7 @@ TEST(Splitting, TractionsFollowTheChildThatHoldsTheFace) {
     const double total = traction_sum_y(scene);
     const std::size_t loads = scene.surface_loads.size();
     deform_all(scene, axis == 0 ? mat(2.5, 0, 0, 1) : mat(1, 0, 0, 2.5));
-    split_particles(scene);
+    split_material_points(scene);
     EXPECT_EQ(traction_sum_y(scene), total);
     EXPECT_EQ(scene.surface_loads.size(), axis == 0 ? 2 * loads : loads);
     for (const SurfaceLoad& load : scene.surface_loads) {
@@ -310,7 +310,7 @@ TEST(Splitting, NoSplitLeavesResultsUnchanged) {
   const double dt = s1->stable_dt(0.5);
   for (int step = 0; step < 200; ++step) {
     s1->step(dt);
-    ASSERT_EQ(split_particles(with_block), 0);
+    ASSERT_EQ(split_material_points(with_block), 0);
     s2->step(dt);
   }
   ASSERT_EQ(with_block.particles.size(), plain.particles.size());

@@ -41,18 +41,18 @@ int split_axis(const Mat2& F, const Vec2& half_size0);
 bool splitting_requested(const CaseSpec& spec);
 
 /// Allocates the particles' splitting block (F0^-1 = I, generation 0) when a body splits;
-/// otherwise leaves it empty, and split_particles() then does nothing.
+/// otherwise leaves it empty, and split_material_points() then does nothing.
 void enable_splitting(Scene<2>& scene);
 
 /// Splits point p along reference axis `axis`: p becomes the child on the negative side, the
 /// child on the positive side is appended. Particles only: the caller updates the materials'
-/// history, the batches and the loads (split_particles does all of it).
+/// history, the batches and the loads (split_material_points does all of it).
 Index split_point(Particles<2>& particles, Index p, int axis);
 
 /// Splits every point whose body has a split block and whose F^split meets the criterion;
 /// children are checked at the next call. Updates the materials' history, the material
 /// batches, the tractions (a loaded face stays on the child that holds it) and returns the
 /// number of splits. Solvers must be told (particles_changed) when it is non-zero.
-Index split_particles(Scene<2>& scene);
+Index split_material_points(Scene<2>& scene);
 
 } // namespace talus
