@@ -1,10 +1,11 @@
-// talus: the command-line front end. Sub-commands: run, verify, bench, render, info.
+// talus: the command-line front end. Sub-commands: run, fos, verify, bench, render, info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/post/render.hpp"
 #include "talus/solver/run.hpp"
+#include "talus/solver/strength_reduction.hpp"
 #include "talus/verify/bench.hpp"
 #include "talus/verify/verification.hpp"
 
@@ -52,6 +53,25 @@ int run_command(const std::string& case_file, const std::vector<std::string>& ov
   return r.exit_code;
 }
 
+int fos_command(const std::string& case_file, const std::vector<std::string>& overrides,
+                const std::string& out, bool force, int threads) {
+  const CaseSpec spec = read_case_file(case_file, overrides);
+  FosOptions options;
+  options.out_dir = out;
+  options.force = force;
+  options.threads = threads;
+  const FosRunResult r = run_factor_of_safety(spec, options);
+  if (r.fos.bracketed)
+    fmt::print("{}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]), {} trials, {} Newton "
+               "iterations, {:.2f} s -> {}\n",
+               spec.name, r.fos.value(), r.fos.lower, r.fos.upper, r.fos.trials.size(),
+               r.newton_iterations, r.wall_seconds, r.out_dir.string());
+  else
+    fmt::print(stderr, "talus: {}: no factor of safety: {} -> {}\n", spec.name, r.fos.message,
+               r.out_dir.string());
+  return r.exit_code;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -69,6 +89,17 @@ int main(int argc, char** argv) {
                   "Override a case key, e.g. --set solver.shape=linear (repeatable)");
   run->add_flag("--force", force, "Replace the results of an earlier run in the directory");
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+
+  auto* fos = app.add_subcommand(
+      "fos", "Factor of safety by strength reduction (c / F, tan phi / F, bisection on F); "
+             "writes fos.csv, fos.png, fos.log and each trial's run");
+  fos->add_option("case", case_file, "Case file (YAML) with a strength_reduction section")
+      ->required();
+  fos->add_option("--out", out_dir, "Output directory (default results/<case name>-fos)");
+  fos->add_option("--set", overrides, "Override a case key (repeatable)");
+  fos->add_flag("--force", force, "Replace the results of an earlier search in the directory");
+  fos->add_option("--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
 
   auto* verify = app.add_subcommand("verify", "Run the verification suite and write a report");
@@ -126,6 +157,8 @@ int main(int argc, char** argv) {
   try {
     if (*run)
       return run_command(case_file, overrides, out_dir, force, threads);
+    if (*fos)
+      return fos_command(case_file, overrides, out_dir, force, threads);
     if (*verify)
       return run_verification(verify_options);
     if (*bench)

@@ -337,6 +337,7 @@ private:
   OutputSpec output(const Item& it, bool any_plastic) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
   SolverSpec solver(const Item& it, AnalysisType analysis) const;
+  StrengthReductionSpec strength_reduction(const Item& it, const CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
   static std::vector<std::string> solver_keys();
   BodySpec::InitialStress initial_stress(const Item& it, const BodySpec& b,
@@ -1163,6 +1164,50 @@ SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
   return s;
 }
 
+StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
+  const Map m(*this, it,
+              {"lower", "upper", "tolerance", "max_trials", "probe", "displacement_limit"});
+  StrengthReductionSpec s;
+  s.where = locate(m.self());
+  // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
+  // no such criterion.
+  if (spec.analysis != AnalysisType::ImplicitQuasistatic)
+    fail(m.self(), "strength reduction loads the case quasi-statically; it needs 'analysis: "
+                   "implicit_quasistatic'");
+  const bool reducible =
+      std::any_of(spec.materials.begin(), spec.materials.end(), [](const MaterialSpec& mat) {
+        return mat.model == MaterialModel::Tresca || mat.model == MaterialModel::MohrCoulomb ||
+               mat.model == MaterialModel::DruckerPrager;
+      });
+  if (!reducible)
+    fail(m.self(), "strength reduction divides cohesion and tan(friction_angle); the case has "
+                   "no tresca, mohr_coulomb or drucker_prager material");
+  if (m.has("lower"))
+    s.lower = positive(m["lower"]);
+  if (m.has("upper"))
+    s.upper = positive(m["upper"]);
+  if (!(s.upper > s.lower))
+    fail(m.has("upper") ? m["upper"] : m.self(),
+         fmt::format("'upper' ({:g}) must be above 'lower' ({:g})", s.upper, s.lower));
+  if (m.has("tolerance"))
+    s.tolerance = positive(m["tolerance"]);
+  if (m.has("max_trials")) {
+    const Item trials = m["max_trials"];
+    const Index v = integer(trials);
+    if (v < 2 || v > 100)
+      fail(trials, "must be an integer in [2, 100] (got " + trials.node.Scalar() + ")");
+    s.max_trials = static_cast<int>(v);
+  }
+  const Item probe = m.required("probe");
+  s.probe = name(probe);
+  if (std::none_of(spec.probes.begin(), spec.probes.end(),
+                   [&](const ProbeSpec& p) { return p.name == s.probe; }))
+    fail(probe, "no probe named '" + s.probe + "' (the crest probe must be listed in 'probes')");
+  if (m.has("displacement_limit"))
+    s.displacement_limit = positive(m["displacement_limit"]);
+  return s;
+}
+
 CaseSpec Validator::read(const YAML::Node& root) const {
   const Item top_item{root, root.Mark(), ""};
   if (root.IsNull() || !root.IsDefined())
@@ -1172,7 +1217,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   const Map top(*this, top_item,
                 {"name", "analysis", "dimension", "grid", "materials", "bodies", "gravity",
                  "boundaries", "point_loads", "tractions", "prescribed", "time", "output", "probes",
-                 "solver"});
+                 "solver", "strength_reduction"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
   if (top.has("analysis"))
@@ -1220,6 +1265,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   }
   if (spec.analysis == AnalysisType::Explicit && spec.time.dt)
     check_explicit_time_step(top, spec);
+  if (top.present("strength_reduction"))
+    spec.strength_reduction = strength_reduction(top["strength_reduction"], spec);
   return spec;
 }
 

@@ -210,6 +210,22 @@ struct SolverSpec {
   double ghost_penalty = 1e-3;
 };
 
+/// `talus fos`: the strength-reduction search for the factor of safety (docs/case-format.md,
+/// strength_reduction). Each trial factor F loads the case with c / F and tan(phi) / F from
+/// scratch; the search brackets the smallest F at which the loading fails and bisects.
+struct StrengthReductionSpec {
+  double lower = 1.0;      ///< -, first trial factor; expected to stand (default 1)
+  double upper = 2.0;      ///< -, second trial factor; raised (x 1.5) while it still stands
+  double tolerance = 0.01; ///< -, stop when the bracket is at most this wide
+  int max_trials = 16;     ///< trials before the search gives up (no hang), >= 2
+  std::string probe;       ///< probe whose displacement is the crest displacement (required)
+  /// m; a trial whose converged crest displacement exceeds this also counts as failed (the
+  /// displacement jump of a mechanism that re-stabilises after large movement). None: only
+  /// Newton failure at the smallest load step counts.
+  std::optional<double> displacement_limit;
+  SourceLocation where;
+};
+
 struct CaseSpec {
   std::string name;                   ///< required; default output dir results/<name>
   std::string source_file;            ///< path the case was read from
@@ -229,6 +245,7 @@ struct CaseSpec {
   OutputSpec output;
   std::vector<ProbeSpec> probes;
   SolverSpec solver;
+  std::optional<StrengthReductionSpec> strength_reduction; ///< `talus fos` only
 };
 
 } // namespace talus

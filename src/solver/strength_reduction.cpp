@@ -1,0 +1,278 @@
+#include "talus/solver/strength_reduction.hpp"
+
+#include "talus/core/errors.hpp"
+#include "talus/io/csv.hpp"
+#include "talus/post/python_script.hpp"
+#include "talus/solver/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+namespace talus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+double reduced_angle(double degrees, double factor) {
+  return std::atan(std::tan(degrees * kDegree) / factor) / kDegree;
+}
+
+// The files and the folder a search owns; --force replaces exactly these.
+const char* const kFosFiles[] = {"fos.log", "fos.csv", "fos.json", "fos.png"};
+constexpr const char* kTrialsDir = "trials";
+
+void prepare_fos_directory(const fs::path& dir, bool force) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec))
+    return;
+  if (!fs::is_directory(dir, ec))
+    throw InputError({"--out", 0, 0, ""},
+                     fmt::format("'{}' exists and is not a directory", dir.string()));
+  if (fs::is_empty(dir, ec))
+    return;
+  if (!force)
+    throw InputError({"--out", 0, 0, ""},
+                     fmt::format("output directory '{}' already holds results; choose another "
+                                 "--out or pass --force to replace them",
+                                 dir.string()));
+  for (const char* name : kFosFiles)
+    fs::remove(dir / name, ec);
+  fs::remove_all(dir / kTrialsDir, ec);
+}
+
+// A CSV field that may hold commas or quotes.
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"')
+      out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// One trial: the case with reduced strength, run quietly into `dir`; what it ended with.
+StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir, int threads,
+                        bool& interrupted) {
+  const StrengthReductionSpec& settings = *spec.strength_reduction;
+  StrengthTrial trial;
+  trial.factor = factor;
+  const auto start = std::chrono::steady_clock::now();
+  RunOptions options;
+  options.out_dir = dir;
+  options.threads = threads;
+  options.progress = false;
+  RunResult run;
+  try {
+    run = run_case(reduce_strength(spec, factor), options);
+  } catch (const InputError& e) {
+    // The reduced strength refused the initial stress: the slope cannot even start.
+    trial.failed = true;
+    trial.reason = fmt::format("failed before the first step: {}", e.what());
+    trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return trial;
+  }
+  trial.seconds = run.wall_seconds;
+  trial.load_reached = run.final_time / spec.time.end_time;
+  trial.load_steps = run.steps;
+  auto stat = [&](const char* key) {
+    const auto it = run.extra.find(key);
+    return it == run.extra.end() ? Index{0} : static_cast<Index>(it->second);
+  };
+  trial.newton_iterations = stat("newton_iterations");
+  trial.cutbacks = stat("cutbacks");
+  const CsvTable series = read_csv(dir / "timeseries.csv");
+  const auto& x = series.column(settings.probe + ".x");
+  const auto& y = series.column(settings.probe + ".y");
+  trial.crest_dx = x.back() - x.front();
+  trial.crest_dy = y.back() - y.front();
+  const double moved = trial.crest_displacement();
+  if (run.status == "interrupted") {
+    interrupted = true;
+    trial.failed = true;
+    trial.reason = "interrupted";
+  } else if (run.exit_code != 0) {
+    trial.failed = true;
+    trial.reason = fmt::format("failed at {:.1f} % of the load (crest moved {:.4g} m): {}",
+                               100.0 * trial.load_reached, moved, run.message);
+  } else if (settings.displacement_limit && moved > *settings.displacement_limit) {
+    trial.failed = true;
+    trial.reason = fmt::format("failed: converged, but the crest moved {:.4g} m, beyond the "
+                               "displacement limit {:g} m",
+                               moved, *settings.displacement_limit);
+  } else {
+    trial.reason = fmt::format("stood: full load in {} steps, {} Newton iterations, {} "
+                               "cut-backs; crest moved {:.4g} m",
+                               run.steps, trial.newton_iterations, trial.cutbacks, moved);
+  }
+  return trial;
+}
+
+void write_fos_csv(const fs::path& file, const FactorOfSafety& fos) {
+  std::ofstream out(file);
+  out << "trial,factor,failed,load_reached,crest_dx,crest_dy,crest_displacement,load_steps,"
+         "newton_iterations,cutbacks,seconds,reason\n";
+  for (std::size_t k = 0; k < fos.trials.size(); ++k) {
+    const StrengthTrial& t = fos.trials[k];
+    out << fmt::format("{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{},{},{},{:.4g},{}\n", k + 1,
+                       t.factor, t.failed ? 1 : 0, t.load_reached, t.crest_dx, t.crest_dy,
+                       t.crest_displacement(), t.load_steps, t.newton_iterations, t.cutbacks,
+                       t.seconds, quoted(t.reason));
+  }
+}
+
+void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResult& r) {
+  nlohmann::json j;
+  j["case"] = spec.name;
+  j["bracketed"] = r.fos.bracketed;
+  j["factor_of_safety"] = r.fos.bracketed ? nlohmann::json(r.fos.value()) : nlohmann::json();
+  j["bracket"] = {r.fos.lower, r.fos.upper};
+  j["message"] = r.fos.message;
+  j["trials"] = r.fos.trials.size();
+  j["newton_iterations"] = r.newton_iterations;
+  j["wall_seconds"] = r.wall_seconds;
+  std::ofstream(file) << j.dump(2) << "\n";
+}
+
+} // namespace
+
+double StrengthTrial::crest_displacement() const {
+  return std::hypot(crest_dx, crest_dy);
+}
+
+CaseSpec reduce_strength(const CaseSpec& spec, double factor) {
+  CaseSpec reduced = spec;
+  for (MaterialSpec& m : reduced.materials) {
+    if (m.model != MaterialModel::Tresca && m.model != MaterialModel::MohrCoulomb &&
+        m.model != MaterialModel::DruckerPrager)
+      continue;
+    m.cohesion /= factor;
+    m.friction_angle = reduced_angle(m.friction_angle, factor);
+    if (m.residual) {
+      m.residual->cohesion /= factor;
+      m.residual->friction_angle = reduced_angle(m.residual->friction_angle, factor);
+    }
+    // psi may not exceed phi at any point of the softening either.
+    m.dilation_angle = std::min(
+        {m.dilation_angle, m.friction_angle, m.residual ? m.residual->friction_angle : 90.0});
+  }
+  return reduced;
+}
+
+FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
+                                       const std::function<StrengthTrial(double)>& trial,
+                                       const std::function<void(const StrengthTrial&)>& on_trial) {
+  FactorOfSafety fos;
+  auto run = [&](double factor) {
+    fos.trials.push_back(trial(factor));
+    if (on_trial)
+      on_trial(fos.trials.back());
+    return !fos.trials.back().failed;
+  };
+  auto out_of_trials = [&] { return static_cast<int>(fos.trials.size()) >= settings.max_trials; };
+  if (!run(settings.lower)) {
+    fos.upper = settings.lower;
+    fos.message = fmt::format("the lowest factor F = {:g} already fails: the factor of safety is "
+                              "below the search range; lower strength_reduction.lower",
+                              settings.lower);
+    return fos;
+  }
+  fos.lower = settings.lower;
+  double upper = settings.upper;
+  while (true) {
+    if (out_of_trials()) {
+      fos.message = fmt::format("no failing factor found within max_trials = {}: the factor of "
+                                "safety is above {:g}; raise strength_reduction.upper",
+                                settings.max_trials, fos.lower);
+      return fos;
+    }
+    if (!run(upper))
+      break;
+    fos.lower = upper;
+    upper *= 1.5;
+  }
+  fos.upper = upper;
+  while (fos.upper - fos.lower > settings.tolerance) {
+    if (out_of_trials()) {
+      fos.message = fmt::format("max_trials = {} reached with the bracket [{:g}, {:g}] wider "
+                                "than the tolerance {:g}",
+                                settings.max_trials, fos.lower, fos.upper, settings.tolerance);
+      return fos;
+    }
+    const double middle = 0.5 * (fos.lower + fos.upper);
+    (run(middle) ? fos.lower : fos.upper) = middle;
+  }
+  fos.bracketed = true;
+  fos.message = fmt::format("bracket [{:.4g}, {:.4g}] within the tolerance {:g} after {} trials",
+                            fos.lower, fos.upper, settings.tolerance, fos.trials.size());
+  return fos;
+}
+
+FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& options) {
+  if (!spec.strength_reduction)
+    throw InputError({spec.source_file, 0, 0, "strength_reduction"},
+                     "talus fos needs a 'strength_reduction' section in the case (at least its "
+                     "crest 'probe'); see docs/case-format.md");
+  const auto wall_start = std::chrono::steady_clock::now();
+  FosRunResult result;
+  result.out_dir =
+      options.out_dir.empty() ? fs::path("results") / (spec.name + "-fos") : options.out_dir;
+  prepare_fos_directory(result.out_dir, options.force);
+  fs::create_directories(result.out_dir / kTrialsDir);
+  std::ofstream log(result.out_dir / "fos.log");
+  log << fmt::format("# talus fos {}: strength reduction c / F, tan(phi) / F; a trial fails when "
+                     "Newton does not converge at the smallest load step{}\n",
+                     spec.name,
+                     spec.strength_reduction->displacement_limit
+                         ? fmt::format(" or the crest moves more than {:g} m",
+                                       *spec.strength_reduction->displacement_limit)
+                         : std::string());
+  bool interrupted = false;
+  auto trial = [&](double factor) {
+    if (interrupted) { // stop at once, the user asked to
+      StrengthTrial t;
+      t.factor = factor;
+      t.failed = true;
+      t.reason = "interrupted";
+      return t;
+    }
+    const fs::path dir = result.out_dir / kTrialsDir / fmt::format("F{:.6f}", factor);
+    return run_trial(spec, factor, dir, options.threads, interrupted);
+  };
+  auto on_trial = [&](const StrengthTrial& t) {
+    const std::string line =
+        fmt::format("trial F = {:.6f}: {} ({:.2f} s)", t.factor, t.reason, t.seconds);
+    log << line << "\n" << std::flush;
+    fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial);
+  if (interrupted) {
+    result.fos.bracketed = false;
+    result.fos.message = "interrupted";
+  }
+  for (const StrengthTrial& t : result.fos.trials)
+    result.newton_iterations += t.newton_iterations;
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  result.exit_code = interrupted ? kExitOther : result.fos.bracketed ? kExitOk : kExitNumerical;
+  log << fmt::format("# {}; {} Newton iterations in {} trials, {:.2f} s\n", result.fos.message,
+                     result.newton_iterations, result.fos.trials.size(), result.wall_seconds);
+  write_fos_csv(result.out_dir / "fos.csv", result.fos);
+  write_fos_json(result.out_dir / "fos.json", spec, result);
+  run_python_script("plot_fos.py",
+                    {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(),
+                     spec.name, fmt::format("{:.17g}", result.fos.lower),
+                     fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0"});
+  return result;
+}
+
+} // namespace talus
