@@ -550,7 +550,8 @@ std::vector<std::string> Validator::solver_keys() {
           "linear_solver",
           "newton_tolerance",
           "max_newton_iterations",
-          "ghost_penalty"};
+          "ghost_penalty",
+          "f_bar"};
 }
 
 void Validator::plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const {
@@ -1153,6 +1154,12 @@ SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
     if (!(s.ghost_penalty >= 0 && s.ghost_penalty < 1))
       fail(gp, "must be in [0, 1) (got " + gp.node.Scalar() + ")");
   }
+  if (m.has("f_bar")) {
+    if (analysis == AnalysisType::Explicit)
+      fail(m.key("f_bar"), "'f_bar' averages the volume change of the implicit grid solve; "
+                           "explicit analyses do not support it");
+    s.f_bar = boolean(m["f_bar"]);
+  }
   if (m.has("transfer")) {
     s.transfer = choice<TransferScheme>(
         m["transfer"], {{"flip", TransferScheme::Flip}, {"apic", TransferScheme::Apic}});
@@ -1246,18 +1253,23 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))
     spec.solver = solver(top["solver"], spec.analysis);
-  if (top.present("solver") && !spec.solver.linear_solver.empty())
-    for (const auto& material : spec.materials)
-      if (is_plastic(material.model) && nonsymmetric_tangent(material)) {
-        LinearSolverOptions options;
-        parse_linear_solver_kind(spec.solver.linear_solver, options.kind);
-        if (make_linear_solver(options)->requires_symmetric())
-          fail(Map(*this, top["solver"], solver_keys())["linear_solver"],
-               "'" + spec.solver.linear_solver + "' needs a symmetric tangent, but material '" +
-                   material.name +
-                   "' has non-associated flow or softening (nonsymmetric tangent); use umfpack, "
-                   "klu, eigen_bicgstab or trilinos_gmres, or leave linear_solver out");
-      }
+  if (top.present("solver") && !spec.solver.linear_solver.empty()) {
+    LinearSolverOptions options;
+    parse_linear_solver_kind(spec.solver.linear_solver, options.kind);
+    if (make_linear_solver(options)->requires_symmetric()) {
+      const auto refuse = [&](const std::string& why) {
+        fail(Map(*this, top["solver"], solver_keys())["linear_solver"],
+             "'" + spec.solver.linear_solver + "' needs a symmetric tangent, but " + why +
+                 " (nonsymmetric tangent); use umfpack, klu, eigen_bicgstab or trilinos_gmres, "
+                 "or leave linear_solver out");
+      };
+      if (spec.solver.f_bar)
+        refuse("f_bar couples the points of a cell through their average volume change");
+      for (const auto& material : spec.materials)
+        if (is_plastic(material.model) && nonsymmetric_tangent(material))
+          refuse("material '" + material.name + "' has non-associated flow or softening");
+    }
+  }
   if (spec.analysis != AnalysisType::Explicit && spec.time.cfl) {
     const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
     fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "

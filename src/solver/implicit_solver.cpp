@@ -3,10 +3,12 @@
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/shape/shape_functions.hpp"
+#include "talus/solver/f_bar.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fmt/format.h>
 #include <limits>
 #include <stdexcept>
@@ -40,10 +42,12 @@ public:
       material_young_.push_back(m->lame().young_modulus());
     }
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
-    const bool symmetric = std::all_of(scene.materials.begin(), scene.materials.end(),
-                                       [](const auto& m) { return m->symmetric_tangent(); });
-    // Non-associated flow and softening make the tangent nonsymmetric: Cholesky cannot take
-    // it, LU can (the case reader refuses an explicit symmetric-only choice).
+    f_bar_ = scene.spec.solver.f_bar;
+    const bool symmetric =
+        !f_bar_ && std::all_of(scene.materials.begin(), scene.materials.end(),
+                               [](const auto& m) { return m->symmetric_tangent(); });
+    // Non-associated flow, softening and F-bar make the tangent nonsymmetric: Cholesky cannot
+    // take it, LU can (the case reader refuses an explicit symmetric-only choice).
     const std::string& chosen = scene.spec.solver.linear_solver;
     const std::string name = !chosen.empty() ? chosen : symmetric ? "cholmod" : "umfpack";
     LinearSolverKind kind;
@@ -126,6 +130,8 @@ public:
     trial_F_.resize(np, Mat3::Identity());
     trial_dF_.resize(np, M::Identity());
     response_.resize(np);
+    trial_j_.resize(np, 1.0);
+    f_bar_H_.resize(np, M::Zero());
     state_valid_ = false; // the cached trial state belonged to the old point set
   }
 
@@ -204,6 +210,8 @@ public:
   bool assemble_share(const ParticleShare& share, const DofMap& map,
                       const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
                       SparseAssembler* tangent) override {
+    if (f_bar_)
+      require_whole_cells(share);
     if (!state_matches(share, du_overlap) && !update_trial_state(share, map, du_overlap))
       return false;
     if (residual)
@@ -279,7 +287,7 @@ private:
       const auto s = at(p);
       const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
       // V0 tau dF^-T: the first Piola stress of the step, times the reference volume.
-      const Mat3 G = P.volume0[s] * response_[s].kirchhoff * dF_inv.transpose();
+      const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
       const M G2 = G.topLeftCorner<Dim, Dim>();
       map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
         const V f = G2 * grad;
@@ -298,8 +306,7 @@ private:
   // B mapping the nodal increments to grad(du) (row 2a+b: du_a/dx_b) and A = dG/d(dF) the
   // step tangent; the ghost-penalty face blocks, per component; the Newmark mass of its owned
   // DOFs.
-  void assemble_tangent(const ParticleShare& share, const DofMap& map,
-                        SparseAssembler& tangent) const {
+  void assemble_tangent(const ParticleShare& share, const DofMap& map, SparseAssembler& tangent) {
     constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
     constexpr int kDofs = Dim * kNodes;
     const auto& P = scene_.particles;
@@ -316,10 +323,13 @@ private:
         }
         ++k;
       });
-      const Eigen::Matrix<double, Dim * Dim, kDofs> AB = step_tangent(s) * B;
+      const Eigen::Matrix<double, Dim * Dim, kDofs> AB =
+          (f_bar_ ? f_bar_step_tangent(s) : step_tangent(s)) * B;
       const Eigen::Matrix<double, kDofs, kDofs> K = P.volume0[s] * (B.transpose() * AB);
       tangent.add_block(dofs, K);
     }
+    if (f_bar_)
+      add_f_bar_cell_coupling(share, map, tangent);
     const auto& G = GhostPenalty::face_matrix();
     std::array<Index, GhostPenalty::kFaceNodes> face_dofs{};
     for (const auto& face : ghost_.faces()) {
@@ -375,6 +385,11 @@ private:
       }
     }
     prepare_ghost_penalty(heaviest);
+    if (f_bar_) {
+      f_bar_cells_.build(scene_.grid, P);
+      trial_j_.resize(at(P.size()));
+      f_bar_H_.resize(at(P.size()));
+    }
     if (dynamic_) {
       // Lumped mass and the mass-weighted projections of the particles' velocity and
       // acceleration, per unknown.
@@ -483,6 +498,8 @@ private:
       trial_dF_[at(p)] = dF;
       trial_F_[at(p)] = embed_plane_strain(dF * P.F[at(p)]);
     }
+    if (f_bar_ && !apply_f_bar(share))
+      return false; // a cell turned inside out: Newton backtracks, the stepper may cut back
     try {
       for (std::size_t m = 0; m < scene_.materials.size(); ++m)
         scene_.materials[m]->response(points_of_material(m, share), trial_F_, response_);
@@ -533,6 +550,149 @@ private:
     return A;
   }
 
+  // --- F-bar (f_bar.hpp) ---------------------------------------------------------------------
+
+  /// F-bar couples the points of a cell: a share must hold every point of the cells it
+  /// reaches. (A distributed run will need shares made of whole cells, or the cell averages
+  /// exchanged; the serial solver is one share.)
+  void require_whole_cells(const ParticleShare& share) const {
+    const auto& points = f_bar_cells_.points();
+    for (Index p = share.begin; p < share.end; ++p) {
+      const Index c = f_bar_cells_.cell_of(p);
+      for (Index k = f_bar_cells_.begin(c); k < f_bar_cells_.end(c); ++k)
+        if (!share.contains(points[at(k)]))
+          throw std::invalid_argument(fmt::format(
+              "F-bar: share {} holds point {} but not point {} of the same cell; F-bar needs "
+              "shares made of whole cells",
+              share.index, p, points[at(k)]));
+    }
+  }
+
+  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/2)
+  /// dF_p; false if a point or a cell average has lost its volume (j <= 0).
+  bool apply_f_bar(const ParticleShare& share) {
+    const auto& P = scene_.particles;
+    cell_j_bar_.resize(at(f_bar_cells_.cell_count()));
+    for (Index p = share.begin; p < share.end; ++p) {
+      trial_j_[at(p)] = trial_dF_[at(p)].determinant();
+      cell_j_bar_[at(f_bar_cells_.cell_of(p))] = 0.0;
+    }
+    for (Index p = share.begin; p < share.end; ++p)
+      cell_j_bar_[at(f_bar_cells_.cell_of(p))] += f_bar_cells_.weight(p) * trial_j_[at(p)];
+    for (Index p = share.begin; p < share.end; ++p) {
+      const double j = trial_j_[at(p)], j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(p))];
+      if (!(j > 0 && j_bar > 0))
+        return false;
+      trial_F_[at(p)] = embed_plane_strain(std::sqrt(j_bar / j) * trial_dF_[at(p)] * P.F[at(p)]);
+    }
+    return true;
+  }
+
+  /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
+  double volume_ratio(std::size_t s) const {
+    return f_bar_ ? trial_j_[s] / cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))]
+                  : 1.0;
+  }
+
+  // The F-bar step tangent of G = (j / J_bar) tau(dF_bar F_n) dF^-T at fixed J_bar (4x4, index
+  // 2a+b as step_tangent), and in f_bar_H_[s] its derivative dG/dJ_bar at fixed dF. With
+  // r = j / J_bar, k = (J_bar / j)^(1/2), D_aq,cd = sum_m dtau_aq/dF_cm Fn_dm, E_aq = D_aq:dF:
+  //   dG_ab/ddF_cd = r [dFinv_dc G'_ab + k sum_q (D_aq,cd - dFinv_dc E_aq / 2) dFinv_bq
+  //                     - sum_q tau_aq dFinv_bc dFinv_dq],           G' = tau dF^-T,
+  //   dG_ab/dJ_bar = -G_ab / J_bar + r k / (2 J_bar) sum_q E_aq dFinv_bq.
+  Eigen::Matrix<double, 4, 4> f_bar_step_tangent(std::size_t s) {
+    const auto& P = scene_.particles;
+    const M& dF = trial_dF_[s];
+    const Mat3 dFinv = embed_plane_strain(dF).inverse();
+    const Mat3 Fn = embed_plane_strain(P.F[s]);
+    const StressTangent& st = response_[s];
+    const double j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))];
+    const double r = trial_j_[s] / j_bar, k = std::sqrt(j_bar / trial_j_[s]);
+    Eigen::Matrix<double, 6, 4> D; // row 3a+q, column 2c+d
+    for (int a = 0; a < 2; ++a)
+      for (int q = 0; q < 3; ++q)
+        for (int c = 0; c < 2; ++c)
+          for (int d = 0; d < 2; ++d) {
+            double v = 0;
+            for (int m = 0; m < 3; ++m)
+              v += st.dtau_dF(3 * a + q, 3 * c + m) * Fn(d, m);
+            D(3 * a + q, 2 * c + d) = v;
+          }
+    const Eigen::Vector4d dF_flat(dF(0, 0), dF(0, 1), dF(1, 0), dF(1, 1));
+    const Eigen::Matrix<double, 6, 1> E = D * dF_flat;
+    const Mat3 G_prime = st.kirchhoff * dFinv.transpose();
+    Eigen::Matrix<double, 4, 4> A;
+    M H;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        double e_term = 0;
+        for (int q = 0; q < 3; ++q)
+          e_term += E(3 * a + q) * dFinv(b, q);
+        H(a, b) = -r * G_prime(a, b) / j_bar + r * k / (2 * j_bar) * e_term;
+        for (int c = 0; c < 2; ++c)
+          for (int d = 0; d < 2; ++d) {
+            double v = dFinv(d, c) * G_prime(a, b);
+            for (int q = 0; q < 3; ++q)
+              v += k * (D(3 * a + q, 2 * c + d) - 0.5 * dFinv(d, c) * E(3 * a + q)) * dFinv(b, q) -
+                   st.kirchhoff(a, q) * dFinv(b, c) * dFinv(d, q);
+            A(2 * a + b, 2 * c + d) = r * v;
+          }
+      }
+    f_bar_H_[s] = H;
+    return A;
+  }
+
+  // The coupling of the points of a cell through J_bar_c, one rank-one block u v^T per cell of
+  // the share (local DOFs of map):
+  //   u_ia = sum_p V0_p (H_p grad N_i(x_p))_a,   v_kc = sum_q w_q j_q (dF_q^-T grad N_k(x_q))_c,
+  // since dJ_bar = sum_q w_q j_q dF_q^-T : d(dF_q) and d(dF_q) = sum_k du_k grad N_k^T.
+  void add_f_bar_cell_coupling(const ParticleShare& share, const DofMap& map,
+                               SparseAssembler& tangent) {
+    const auto& P = scene_.particles;
+    const auto& points = f_bar_cells_.points();
+    dof_slot_.assign(at(map.overlap_count()), -1);
+    Index last_cell = -1;
+    for (Index first = share.begin; first < share.end; ++first) {
+      // Each cell once: at the first of its points (cells list their points ascending).
+      const Index c = f_bar_cells_.cell_of(first);
+      if (points[at(f_bar_cells_.begin(c))] != first || c == last_cell)
+        continue;
+      last_cell = c;
+      cell_dofs_.clear();
+      cell_u_.clear();
+      cell_v_.clear();
+      for (Index k = f_bar_cells_.begin(c); k < f_bar_cells_.end(c); ++k) {
+        const Index p = points[at(k)];
+        const auto s = at(p);
+        const M H = P.volume0[s] * f_bar_H_[s];
+        const M dFinv_T = trial_dF_[s].inverse().transpose();
+        const double wj = f_bar_cells_.weight(p) * trial_j_[s];
+        map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
+          const V u = H * grad, v = wj * (dFinv_T * grad);
+          for (int a = 0; a < Dim; ++a) {
+            const Index dof = local_dof(map, n, a);
+            if (dof < 0)
+              continue;
+            if (dof_slot_[at(dof)] < 0) {
+              dof_slot_[at(dof)] = static_cast<Index>(cell_dofs_.size());
+              cell_dofs_.push_back(dof);
+              cell_u_.push_back(0.0);
+              cell_v_.push_back(0.0);
+            }
+            cell_u_[at(dof_slot_[at(dof)])] += u[a];
+            cell_v_[at(dof_slot_[at(dof)])] += v[a];
+          }
+        });
+      }
+      const auto n = static_cast<Eigen::Index>(cell_dofs_.size());
+      cell_block_.noalias() = Eigen::Map<const Eigen::VectorXd>(cell_u_.data(), n) *
+                              Eigen::Map<const Eigen::VectorXd>(cell_v_.data(), n).transpose();
+      tangent.add_block(cell_dofs_, cell_block_);
+      for (const Index dof : cell_dofs_)
+        dof_slot_[at(dof)] = -1;
+    }
+  }
+
   // Moves the points with the converged increment and stores their new state.
   void commit(const Eigen::VectorXd& du, double dt) {
     if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
@@ -543,8 +703,8 @@ private:
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
-      const M G2 =
-          (P.volume0[s] * response_[s].kirchhoff * dF_inv.transpose()).topLeftCorner<Dim, Dim>();
+      const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
+      const M G2 = G.topLeftCorner<Dim, Dim>();
       V dx = V::Zero();
       map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
         const V f = G2 * grad;
@@ -641,6 +801,15 @@ private:
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
+  bool f_bar_ = false;                  ///< F-bar volume averaging per cell (f_bar.hpp)
+  FBarCells f_bar_cells_;               ///< the points of each cell, at the step's start
+  std::vector<double> trial_j_;         ///< per point: det dF at the trial increment
+  std::vector<double> cell_j_bar_;      ///< per cell: volume-weighted average of j
+  std::vector<M> f_bar_H_;              ///< per point: dG/dJ_bar (f_bar_step_tangent)
+  std::vector<Index> dof_slot_;         ///< per local DOF: its slot in the cell being coupled
+  std::vector<Index> cell_dofs_;        ///< the local DOFs of the cell being coupled
+  std::vector<double> cell_u_, cell_v_; ///< the cell's rank-one factors, per slot
+  Eigen::MatrixXd cell_block_;          ///< u v^T of the cell being coupled
 };
 
 } // namespace

@@ -15,6 +15,7 @@ VerificationCase cantilever();
 VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();
+VerificationCase strip_footing();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);

@@ -45,6 +45,7 @@ const std::vector<VerificationCase>& verification_cases() {
       verify_cases::colliding_discs(),    verify_cases::rigid_translation(),
       verify_cases::rigid_rotation(),     verify_cases::cantilever(),
       verify_cases::self_weight_column(), verify_cases::grashof(),
+      verify_cases::strip_footing(),
       verify_cases::single_element()};
   return cases;
 }

@@ -804,6 +804,19 @@ TEST(CaseReaderErrors, PlasticMaterialKeys) {
                {"case.yaml", 9, 5, "materials[0]", "missing required key 'friction_angle'"});
 }
 
+// f_bar belongs to the implicit grid solve, and its tangent is nonsymmetric: an explicit case
+// and a symmetric-only linear solver are refused at the key.
+TEST(CaseReaderErrors, FBarNeedsAnImplicitAnalysisAndANonsymmetricSolver) {
+  const std::string f_bar = with(kCase, "  flip: 0.95", "  flip: 0.95\n  f_bar: true");
+  expect_error(f_bar, {"case.yaml", 60, 3, "solver.f_bar", "explicit analyses do not support it"});
+  const std::string implicit = with(with(f_bar, "analysis: explicit", "analysis: implicit_quasistatic"),
+                                    "  cfl: 0.5", "  dt: 0.01");
+  EXPECT_TRUE(read_case_text(implicit, "case.yaml").solver.f_bar);
+  expect_error(with(implicit, "  f_bar: true", "  f_bar: true\n  linear_solver: cholmod"),
+               {"case.yaml", 61, 18, "solver.linear_solver",
+                "'cholmod' needs a symmetric tangent, but f_bar couples the points of a cell"});
+}
+
 // plastic_strain is a field of the elasto-plastic models: asking for it in an all-elastic case
 // is an error at the list item; with a plastic material it is accepted, and on by default.
 TEST(CaseReaderErrors, PlasticStrainFieldNeedsAPlasticMaterial) {

@@ -208,6 +208,10 @@ struct SolverSpec {
   /// Ghost-penalty factor gamma (dimensionless, times Young's modulus) on the faces of the
   /// boundary cells; 0 switches the stabilisation off. See ghost_penalty.hpp.
   double ghost_penalty = 1e-3;
+  /// F-bar: average each step's volume change over the points of a cell (f_bar.hpp), the
+  /// remedy for volumetric locking (nu -> 1/2, isochoric plastic flow). Implicit only; makes
+  /// the tangent nonsymmetric.
+  bool f_bar = false;
 };
 
 /// `talus fos`: the strength-reduction search for the factor of safety (docs/case-format.md,
