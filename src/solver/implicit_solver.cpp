@@ -651,13 +651,11 @@ private:
     const auto& P = scene_.particles;
     const auto& points = f_bar_cells_.points();
     dof_slot_.assign(at(map.overlap_count()), -1);
-    Index last_cell = -1;
     for (Index first = share.begin; first < share.end; ++first) {
       // Each cell once: at the first of its points (cells list their points ascending).
       const Index c = f_bar_cells_.cell_of(first);
-      if (points[at(f_bar_cells_.begin(c))] != first || c == last_cell)
+      if (points[at(f_bar_cells_.begin(c))] != first)
         continue;
-      last_cell = c;
       cell_dofs_.clear();
       cell_u_.clear();
       cell_v_.clear();
@@ -801,11 +799,11 @@ private:
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
-  bool f_bar_ = false;                  ///< F-bar volume averaging per cell (f_bar.hpp)
-  FBarCells f_bar_cells_;               ///< the points of each cell, at the step's start
-  std::vector<double> trial_j_;         ///< per point: det dF at the trial increment
-  std::vector<double> cell_j_bar_;      ///< per cell: volume-weighted average of j
-  std::vector<M> f_bar_H_;              ///< per point: dG/dJ_bar (f_bar_step_tangent)
+  bool f_bar_ = false;                             ///< F-bar volume averaging per cell (f_bar.hpp)
+  FBarCells f_bar_cells_;                          ///< the points of each cell, at the step's start
+  std::vector<double> trial_j_;                    ///< per point: det dF at the trial increment
+  std::vector<double> cell_j_bar_;                 ///< per cell: volume-weighted average of j
+  std::vector<M> f_bar_H_;                         ///< per point: dG/dJ_bar (f_bar_step_tangent)
   std::vector<Index> dof_slot_;         ///< per local DOF: its slot in the cell being coupled
   std::vector<Index> cell_dofs_;        ///< the local DOFs of the cell being coupled
   std::vector<double> cell_u_, cell_v_; ///< the cell's rank-one factors, per slot

@@ -809,8 +809,9 @@ TEST(CaseReaderErrors, PlasticMaterialKeys) {
 TEST(CaseReaderErrors, FBarNeedsAnImplicitAnalysisAndANonsymmetricSolver) {
   const std::string f_bar = with(kCase, "  flip: 0.95", "  flip: 0.95\n  f_bar: true");
   expect_error(f_bar, {"case.yaml", 60, 3, "solver.f_bar", "explicit analyses do not support it"});
-  const std::string implicit = with(with(f_bar, "analysis: explicit", "analysis: implicit_quasistatic"),
-                                    "  cfl: 0.5", "  dt: 0.01");
+  const std::string implicit =
+      with(with(f_bar, "analysis: explicit", "analysis: implicit_quasistatic"), "  cfl: 0.5",
+           "  dt: 0.01");
   EXPECT_TRUE(read_case_text(implicit, "case.yaml").solver.f_bar);
   expect_error(with(implicit, "  f_bar: true", "  f_bar: true\n  linear_solver: cholmod"),
                {"case.yaml", 61, 18, "solver.linear_solver",
@@ -857,10 +858,10 @@ TEST(CaseReader, SplitBlock) {
   EXPECT_EQ(defaults.bodies[0].split->max_generations, 3);
   EXPECT_EQ(defaults.bodies[0].split->min_size, 0.0);
   EXPECT_FALSE(defaults.bodies[1].split.has_value());
-  const CaseSpec c = read_case_text(
-      kCase, "case.yaml",
-      {"bodies.upper.split={alpha: 3, beta: 0.25, gamma: 0.5, max_generations: 30, "
-       "min_size: 0.01}"});
+  const CaseSpec c =
+      read_case_text(kCase, "case.yaml",
+                     {"bodies.upper.split={alpha: 3, beta: 0.25, gamma: 0.5, max_generations: 30, "
+                      "min_size: 0.01}"});
   ASSERT_TRUE(c.bodies[1].split.has_value());
   EXPECT_EQ(c.bodies[1].split->alpha, 3.0);
   EXPECT_EQ(c.bodies[1].split->beta, 0.25);
@@ -870,8 +871,8 @@ TEST(CaseReader, SplitBlock) {
 }
 
 TEST(CaseReaderErrors, SplitValues) {
-  const std::string file = with(kCase, "    velocity: [7, -7]\n",
-                                "    velocity: [7, -7]\n    split: {alpha: 0.5}\n");
+  const std::string file =
+      with(kCase, "    velocity: [7, -7]\n", "    velocity: [7, -7]\n    split: {alpha: 0.5}\n");
   expect_error(file, {"case.yaml", 26, 20, "bodies[0].split.alpha", "must be > 1"});
   const struct {
     std::string set, key, message;

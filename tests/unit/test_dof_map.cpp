@@ -182,3 +182,23 @@ TEST(DofMap, RefusesAShareMissingAGhostNode) {
     EXPECT_NE(std::string(e.what()).find("not in its DOF map"), std::string::npos) << e.what();
   }
 }
+
+// F-bar couples the points of a cell through their average volume change: a share that holds
+// only part of a cell cannot assemble it, and says so instead of assembling a wrong tangent.
+TEST(DofMap, FBarRefusesASplitCell) {
+  Prepared run(cantilever("implicit_quasistatic", "{shape: gimp, f_bar: true}"));
+  ImplicitSolver& solver = *run.solver;
+  // The first point alone: its cell holds four (2 x 2 points per cell).
+  const std::vector<ParticleShare> shares = {{0, 0, 1}, {1, 1, run.scene.particles.size()}};
+  const std::vector<int> owners = solver.node_owners(shares);
+  const DofMap map = solver.dof_map(shares[0], owners);
+  Eigen::VectorXd r;
+  try {
+    solver.assemble_share(shares[0], map, map.restrict_to_overlap(run.du), &r, nullptr);
+    FAIL() << "a share holding part of a cell was assembled with F-bar";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("F-bar needs shares made of whole cells"),
+              std::string::npos)
+        << e.what();
+  }
+}

@@ -539,7 +539,8 @@ TEST_F(Implicit, FBarWithOnePointPerCellChangesNothing) {
   ASSERT_EQ(standard.status, "completed") << standard.message;
   ASSERT_EQ(f_bar.status, "completed") << f_bar.message;
   double x = 0;
-  const Eigen::Vector2d u0 = tip_column_displacement(ResultsReader(standard.out_dir / "run.h5"), &x);
+  const Eigen::Vector2d u0 =
+      tip_column_displacement(ResultsReader(standard.out_dir / "run.h5"), &x);
   const Eigen::Vector2d u1 = tip_column_displacement(ResultsReader(f_bar.out_dir / "run.h5"), &x);
   EXPECT_NEAR(u1.y(), u0.y(), 1e-9 * std::abs(u0.y()));
   EXPECT_NEAR(u1.x(), u0.x(), 1e-9 * std::abs(u0.y()));
