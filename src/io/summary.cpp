@@ -21,6 +21,8 @@ void write_summary_json(const std::filesystem::path& file, const RunSummary& s) 
   j["particles"] = s.particles;
   j["frames"] = s.frames;
   j["wall_seconds"] = s.wall_seconds;
+  if (!s.linear_solver.empty())
+    j["linear_solver"] = s.linear_solver;
   for (const auto& [key, value] : s.extra) {
     if (j.contains(key))
       throw std::invalid_argument("write_summary_json: extra entry '" + key +

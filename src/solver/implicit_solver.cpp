@@ -120,6 +120,7 @@ public:
   Energies energies() const override { return particle_energies(scene_, dynamic_); }
   std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
   std::vector<Vec2> prescribed_reactions() const override { return prescribed_reactions_; }
+  std::string linear_solver() const override { return linear_->name(); }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
   Index unknowns() const override { return dof_count_; }
   double seconds_particle_update() const override { return seconds_particle_update_; }

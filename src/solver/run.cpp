@@ -277,6 +277,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
 void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
                   const fs::path& out_dir) {
   auto solver = make_implicit_solver(scene);
+  result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
   const double dt0 = *time.dt;
   const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
@@ -466,6 +467,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   summary.particles = result.particles;
   summary.frames = result.frames;
   summary.wall_seconds = result.wall_seconds;
+  summary.linear_solver = result.linear_solver;
   summary.extra = result.extra;
   write_summary_json(result.out_dir / "summary.json", summary);
   return result;

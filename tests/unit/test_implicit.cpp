@@ -201,6 +201,7 @@ TEST_F(Implicit, ImplicitBackendsAgreeOnTheCantilever) {
         run(kCantilever, {"grid.cell_size=0.25", "solver.linear_solver=" + name}, name);
     ASSERT_EQ(r.status, "completed") << r.message;
     EXPECT_EQ(r.exit_code, 0);
+    EXPECT_EQ(read_json(r.out_dir / "summary.json").at("linear_solver"), name);
     EXPECT_EQ(r.extra.at("load_steps"), 1.0);
     EXPECT_LE(r.extra.at("newton_iterations"), 2.0);
     EXPECT_GE(r.extra.at("newton_iterations"), 1.0);
@@ -225,6 +226,36 @@ TEST_F(Implicit, ImplicitBackendsAgreeOnTheCantilever) {
     EXPECT_LE(rel, bound) << name;
   }
   std::cout << report.str();
+}
+
+// summary.json names the linear solver the Newton systems were solved with, also when it was
+// picked automatically: CHOLMOD for symmetric tangents, UMFPACK as soon as one material's
+// tangent is nonsymmetric (Mohr-Coulomb with psi < phi, even though this block stays elastic).
+// Explicit runs solve no linear system and have no such key.
+TEST_F(Implicit, ImplicitSummaryNamesTheLinearSolverUsed) {
+  const std::string non_associated =
+      "materials.soil={name: soil, model: mohr_coulomb, density: 2000, youngs_modulus: 1.0e7, "
+      "poisson_ratio: 0.3, cohesion: 1.0e6, friction_angle: 30, dilation_angle: 0}";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> runs = {
+      {{}, "cholmod"},
+      {{"solver.linear_solver=klu"}, "klu"},
+      {{non_associated}, "umfpack"},
+  };
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    std::vector<std::string> overrides = runs[k].first;
+    overrides.push_back("boundaries={y_min: fixed}");
+    const talus::RunResult r = run(kBlock, overrides, "run" + std::to_string(k));
+    ASSERT_EQ(r.status, "completed") << r.message;
+    EXPECT_EQ(r.linear_solver, runs[k].second);
+    EXPECT_EQ(read_json(r.out_dir / "summary.json").at("linear_solver"), runs[k].second);
+  }
+  const talus::RunResult r =
+      run(kBlock,
+          {"analysis=explicit", "time={end_time: 1.0e-3, cfl: 0.5}", "boundaries={y_min: fixed}"},
+          "explicit");
+  ASSERT_EQ(r.status, "completed") << r.message;
+  EXPECT_TRUE(r.linear_solver.empty());
+  EXPECT_FALSE(read_json(r.out_dir / "summary.json").contains("linear_solver"));
 }
 
 // The Hencky beam pulled axially by a dead load that no state can carry: with nu = 0 the axial

@@ -1,9 +1,12 @@
 // Elasto-plastic materials in whole runs: the plastic_strain output field, the geostatic initial
 // stress, the global Newton iteration with Mohr-Coulomb, and the colliding Tresca discs. Every
 // run goes to a fresh temporary directory that is removed afterwards.
+#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
+#include "talus/material/plastic_material.hpp"
+#include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/run.hpp"
 
 #include <gtest/gtest.h>
@@ -15,7 +18,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <limits>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -139,4 +145,178 @@ TEST_F(PlasticRuns, ElasticRunHasNoPlasticStrainField) {
     EXPECT_EQ(std::find(names.begin(), names.end(), "plastic_strain"), names.end());
   }
   EXPECT_EQ(read_text(r.out_dir / "run.xmf").find("plastic_strain"), std::string::npos);
+}
+
+// -------------------------------------------------------------------------------------------------
+
+// The footing of kFooting without the footing body: the soil's surface nodes under the footing
+// (half width 0.25 m) are pushed down 20 mm, their horizontal motion free (smooth, rigid). So
+// the residual is scaled by the soil's own forces, not by a footing 100 times stiffer. The
+// average pressure under the footing reaches ~240 kPa, beyond the ~150 kPa of c Nc: a plastic
+// zone spreads under and around the footing.
+const std::string kSoilFooting = R"(name: mc_soil_footing
+analysis: implicit_quasistatic
+grid:
+  origin: [0, 0]
+  extent: [2, 1.5]
+  cell_size: 0.125
+materials:
+  - {name: soil, model: mohr_coulomb, density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.3,
+     cohesion: 5.0e3, friction_angle: 30, dilation_angle: 0}
+bodies:
+  - {name: soil, material: soil, shape: rectangle, min: [0, 0], max: [2, 1],
+     initial_stress: {type: geostatic}}
+gravity: [0, -9.81]
+boundaries: {x_min: roller, x_max: roller, y_min: fixed}
+prescribed:
+  - {name: footing, min: [0, 1], max: [0.25, 1], displacement: [~, -0.02]}
+time: {end_time: 1, dt: 0.125}
+output: {every_steps: 1}
+)";
+
+// Newton with the consistent Mohr-Coulomb tangent on the footing (non-associated: psi = 0 <
+// phi = 30 deg) converges quadratically: for consecutive iterates in the asymptotic range,
+// r_{k+1} <= C r_k^2, with r = max|R| / force scale (the solver's measure, newton.log).
+//
+// The range: r_k <= 1e-3, past the first corrections in which many points still change between
+// elastic and plastic or between plane and edge; and r_{k+1} >= 1e-11, 100 times the round-off
+// floor of r: the stress carries round-off eps M (M ~ 1.3e7 Pa the constrained modulus), a
+// nodal force eps M h ~ 4e-10 N, against a force scale of ~5e3 N (a footing node's share of
+// the first increment's ~1.3e4 N reaction): ~1e-13.
+// The constant: with the exact tangent, r_{k+1} / r_k^2 is a property of the problem (the
+// curvature of R against |K^-1|), measured at most 49 here. C = 100 allows for that and still
+// tells quadratic from linear convergence: a linear rate q gives r_{k+1} / r_k^2 = q / r_k >=
+// 1000 q in the range, above 100 for any q >= 0.1, the order of the rates a continuum
+// (non-consistent) tangent gives.
+TEST_F(PlasticRuns, MohrCoulombFootingNewtonConvergesQuadratically) {
+  const talus::CaseSpec spec = talus::read_case_text(kSoilFooting, "case.yaml", {});
+  talus::Scene<2> scene = talus::build_scene(spec);
+  const auto solver = talus::make_implicit_solver(scene);
+  // Non-associated flow: the automatic choice must be an LU backend, not Cholesky.
+  EXPECT_EQ(solver->linear_solver(), "umfpack");
+  const auto* soil = dynamic_cast<const talus::PlasticMaterial*>(scene.materials.at(0).get());
+  ASSERT_NE(soil, nullptr);
+  ASSERT_FALSE(soil->symmetric_tangent());
+
+  constexpr int kSteps = 8;
+  constexpr double kAsymptotic = 1e-3, kRoundOff = 1e-11, kQuadraticConstant = 100;
+  double worst = 0;
+  int pairs = 0;
+  std::set<talus::ReturnType> returns;
+  for (int k = 1; k <= kSteps; ++k) {
+    SCOPED_TRACE("load step " + std::to_string(k));
+    const double lambda = static_cast<double>(k) / kSteps;
+    const talus::NewtonReport report = solver->step(lambda, lambda, spec.time.dt.value());
+    ASSERT_TRUE(report.converged) << report.message;
+    EXPECT_TRUE(report.abandoned_history.empty()) << "plain Newton failed, line search needed";
+    const auto& r = report.residual_history;
+    for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+      if (r[i] > kAsymptotic || r[i + 1] < kRoundOff)
+        continue;
+      ++pairs;
+      worst = std::max(worst, r[i + 1] / (r[i] * r[i]));
+      EXPECT_LE(r[i + 1], kQuadraticConstant * r[i] * r[i])
+          << "r_k = " << r[i] << ", r_k+1 = " << r[i + 1];
+    }
+    for (const talus::Index p : scene.particles_of_material.at(0))
+      returns.insert(soil->last_return(p));
+  }
+  std::cout << "pairs in the asymptotic range: " << pairs << ", largest r_k+1 / r_k^2 " << worst
+            << "; returns:";
+  for (const talus::ReturnType type : returns)
+    std::cout << " " << talus::to_string(type) << ";";
+  std::cout << "\n";
+  EXPECT_GE(pairs, kSteps) << "too few iterates in the asymptotic range to judge the rate";
+  EXPECT_TRUE(returns.count(talus::ReturnType::Surface));
+  EXPECT_TRUE(returns.count(talus::ReturnType::CompressionEdge) ||
+              returns.count(talus::ReturnType::ExtensionEdge) ||
+              returns.count(talus::ReturnType::Apex))
+      << "no point returned to an edge or the apex: the corners' tangents were not exercised";
+}
+
+// -------------------------------------------------------------------------------------------------
+
+// A Mohr-Coulomb column 2 m high between rollers, fixed at the base, with geostatic initial
+// stress. Frame 0 holds the initial stress itself: sigma_yy = -rho g (H - y), sigma_xx =
+// sigma_zz = K0 sigma_yy, sigma_xy = 0, for a given K0 and for the default nu / (1 - nu); the
+// formula is evaluated once per point, so the bound is round-off: 1e-12 rho g H.
+//
+// The stress is in equilibrium with gravity (d sigma_yy / dy = rho g), and with 2 x 2 points per
+// cell the discrete internal force of this linear field matches the nodal weights, so the first
+// implicit step under the full weight starts in equilibrium: its initial residual (newton.log,
+// relative to a point's weight m g = 76.6 N) is round-off. The stress is stored as an elastic
+// strain and recovered with an absolute error of ~eps M (M = lambda + 2 mu = 1.35e7 Pa), a
+// nodal force of ~eps M h = 3.7e-10 N, 4.8e-12 m g; bound ten times that, 4.8e-11.
+// So the column does not move: compared with the elastic settlement of the same column loaded
+// from zero stress, rho g H^2 / (2 M) = 2.9 mm at the top, an imbalance of r point weights
+// moves it by at most ~r x (32 points per column) x the settlement, 1.5e-9 of it; bound 1e-8.
+TEST_F(PlasticRuns, GeostaticInitialStressIsK0AndInEquilibrium) {
+  const std::string column = R"(name: column
+analysis: implicit_quasistatic
+grid: {origin: [0, 0], extent: [1, 2.5], cell_size: 0.125}
+materials:
+  - {name: soil, model: mohr_coulomb, density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.3,
+     cohesion: 5.0e3, friction_angle: 30}
+bodies:
+  - {name: soil, material: soil, shape: rectangle, min: [0, 0], max: [1, 2],
+     initial_stress: {type: geostatic, k0: 0.6}}
+gravity: [0, -9.81]
+boundaries: {x_min: roller, x_max: roller, y_min: fixed}
+time: {end_time: 1, dt: 1}
+output: {every_steps: 1}
+)";
+  constexpr double kRhoG = 2000 * 9.81, kHeight = 2.0, kNu = 0.3;
+  // Largest displacement of any point between the first and the last frame.
+  auto largest_displacement = [](const ResultsReader& results) {
+    Index rows = 0, cols = 0;
+    const auto x0 = results.read(0, "position", &rows, &cols);
+    const auto x1 = results.read(results.frame_count() - 1, "position", &rows, &cols);
+    double largest = 0;
+    for (std::size_t i = 0; i + 1 < x0.size(); i += 2)
+      largest = std::max(largest, std::hypot(x1[i] - x0[i], x1[i + 1] - x0[i + 1]));
+    return largest;
+  };
+
+  const talus::RunResult plain = run(column, {"bodies.soil.initial_stress=~"}, "plain");
+  ASSERT_EQ(plain.status, "completed") << plain.message;
+  const double settlement = largest_displacement(ResultsReader(plain.out_dir / "run.h5"));
+  const double E = 1.0e7, M = E * (1 - kNu) / ((1 + kNu) * (1 - 2 * kNu));
+  EXPECT_NEAR(settlement, kRhoG * kHeight * kHeight / (2 * M), 0.05 * settlement)
+      << "the reference settlement is not the elastic column's";
+
+  const std::vector<std::pair<std::string, double>> variants = {
+      {"bodies.soil.initial_stress={type: geostatic, k0: 0.6}", 0.6},
+      {"bodies.soil.initial_stress={type: geostatic}", kNu / (1 - kNu)}};
+  for (const auto& [initial_stress, k0] : variants) {
+    SCOPED_TRACE(initial_stress);
+    const talus::RunResult r = run(column, {initial_stress}, "k0_" + std::to_string(k0));
+    ASSERT_EQ(r.status, "completed") << r.message;
+    ResultsReader results(r.out_dir / "run.h5");
+    Index rows = 0, cols = 0;
+    const auto x0 = results.read(0, "position", &rows, &cols);
+    const auto stress = results.read(0, "stress", &rows, &cols);
+    ASSERT_EQ(cols, 6); // xx, xy, xz, yy, yz, zz
+    const double bound = 1e-12 * kRhoG * kHeight;
+    for (Index p = 0; p < rows; ++p) {
+      const auto s = static_cast<std::size_t>(6 * p);
+      const double syy = -kRhoG * (kHeight - x0[static_cast<std::size_t>(2 * p + 1)]);
+      EXPECT_NEAR(stress[s + 3], syy, bound) << "point " << p;
+      EXPECT_NEAR(stress[s + 0], k0 * syy, bound) << "point " << p;
+      EXPECT_NEAR(stress[s + 5], k0 * syy, bound) << "point " << p;
+      EXPECT_EQ(stress[s + 1], 0.0) << "point " << p;
+    }
+    std::ifstream log(r.out_dir / "newton.log");
+    std::string line;
+    while (std::getline(log, line) && line.front() == '#') {
+    }
+    ASSERT_NE(line.find('|'), std::string::npos) << line;
+    const double initial_residual = std::stod(line.substr(line.find('|') + 1));
+    const double eps = std::numeric_limits<double>::epsilon();
+    EXPECT_LE(initial_residual, 10 * eps * M * 0.125 / (kRhoG * 0.0625 * 0.0625));
+    const double moved = largest_displacement(results);
+    std::cout << "K0 = " << k0 << ": largest displacement " << moved
+              << " m, elastic settlement from zero stress " << settlement << " m, ratio "
+              << moved / settlement << ", initial residual " << initial_residual << "\n";
+    EXPECT_LE(moved, 1e-8 * settlement);
+  }
 }

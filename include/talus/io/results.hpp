@@ -120,6 +120,7 @@ struct RunSummary {
   Index particles = 0;
   Index frames = 0;
   double wall_seconds = 0;
+  std::string linear_solver; ///< implicit runs: the linear solver backend used; empty: omitted
   std::map<std::string, double> extra; ///< further numbers (later solvers add timings)
 };
 void write_summary_json(const std::filesystem::path& file, const RunSummary& summary);

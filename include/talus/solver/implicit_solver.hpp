@@ -28,6 +28,7 @@
 #include <array>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -47,6 +48,8 @@ public:
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
   virtual double seconds_particle_update() const = 0;
+  /// The linear solver backend in use (the case's choice, or the automatic one), e.g. "umfpack".
+  virtual std::string linear_solver() const = 0;
   /// The scene's points were added to (splitting, core/splitting.hpp) after a converged step:
   /// resizes the per-point trial state.
   virtual void particles_changed() = 0;

@@ -26,7 +26,8 @@ struct RunResult {
   Index frames = 0;
   Index particles = 0;
   double wall_seconds = 0;
-  int exit_code = 0;                   ///< 0, 1 (interrupted) or 3 (numerical failure)
+  int exit_code = 0;         ///< 0, 1 (interrupted) or 3 (numerical failure)
+  std::string linear_solver; ///< implicit: the backend used (chosen or automatic); else empty
   std::map<std::string, double> extra; ///< solver statistics, also written to summary.json
 };
 
