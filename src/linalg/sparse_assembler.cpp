@@ -73,18 +73,20 @@ void SparseAssembler::add_block(std::span<const Index> dofs,
 }
 
 // The matrix from the recorded contributions, one column at a time: the distinct rows that
-// reach it (found with a marker per row, then sorted), and for every contributed entry its
-// position in the value array, where its value is added in stream order.
+// reach it (found with a marker per row, then sorted) and, for every contributed entry, its
+// position in the value array. The recorded values are then added in stream order, as a
+// replay adds them.
 void SparseAssembler::build_structure() {
   // Slots and the matrix's indices are ints.
   if (recorded_values_.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::length_error("SparseAssembler: more contributions than an int can count");
   const auto n = at(size_);
+  const Index* dofs = dofs_.data();
   // Column -> the (contribution, local column) pairs that reach it, in stream order.
   column_start_.assign(n + 1, 0);
   for (const Contribution& c : contributions_)
     for (int j = 0; j < c.col_count; ++j)
-      if (const Index col = dofs_[c.cols + at(j)]; col >= 0)
+      if (const Index col = dofs[c.cols + at(j)]; col >= 0)
         ++column_start_[at(col) + 1];
   for (std::size_t col = 0; col < n; ++col)
     column_start_[col + 1] += column_start_[col];
@@ -93,7 +95,7 @@ void SparseAssembler::build_structure() {
   for (std::size_t k = 0; k < contributions_.size(); ++k) {
     const Contribution& c = contributions_[k];
     for (int j = 0; j < c.col_count; ++j)
-      if (const Index col = dofs_[c.cols + at(j)]; col >= 0)
+      if (const Index col = dofs[c.cols + at(j)]; col >= 0)
         incidence_[at(fill_[at(col)]++)] = {static_cast<int>(k), j};
   }
 
@@ -102,36 +104,38 @@ void SparseAssembler::build_structure() {
   row_position_.resize(n);
   outer_.assign(n + 1, 0);
   inner_.clear();
-  values_scratch_.clear();
+  int* slots = slots_.data();
+  int* mark = row_mark_.data();
+  int* position = row_position_.data();
   for (std::size_t col = 0; col < n; ++col) {
     const auto first = inner_.size();
     const auto column = static_cast<int>(col);
-    const auto begin = incidence_.begin() + column_start_[col];
-    const auto end = incidence_.begin() + column_start_[col + 1];
-    for (auto it = begin; it != end; ++it) {
+    const Incidence* begin = incidence_.data() + column_start_[col];
+    const Incidence* end = incidence_.data() + column_start_[col + 1];
+    for (const Incidence* it = begin; it != end; ++it) {
       const Contribution& c = contributions_[at(it->k)];
       for (int i = 0; i < c.row_count; ++i)
-        if (const Index row = dofs_[c.rows + at(i)]; row >= 0 && row_mark_[at(row)] != column) {
-          row_mark_[at(row)] = column;
+        if (const Index row = dofs[c.rows + at(i)]; row >= 0 && mark[row] != column) {
+          mark[row] = column;
           inner_.push_back(static_cast<int>(row));
         }
     }
     std::sort(inner_.begin() + static_cast<std::ptrdiff_t>(first), inner_.end());
     for (std::size_t e = first; e < inner_.size(); ++e)
-      row_position_[at(inner_[e])] = static_cast<int>(e);
-    values_scratch_.resize(inner_.size(), 0.0);
-    for (auto it = begin; it != end; ++it) {
+      position[inner_[e]] = static_cast<int>(e);
+    for (const Incidence* it = begin; it != end; ++it) {
       const Contribution& c = contributions_[at(it->k)];
-      const std::size_t entry = c.first + at(it->j) * at(c.row_count);
+      int* entry_slots = slots + c.first + at(it->j) * at(c.row_count);
       for (int i = 0; i < c.row_count; ++i)
-        if (const Index row = dofs_[c.rows + at(i)]; row >= 0) {
-          const int position = row_position_[at(row)];
-          slots_[entry + at(i)] = position;
-          values_scratch_[at(position)] += recorded_values_[entry + at(i)];
-        }
+        if (const Index row = dofs[c.rows + at(i)]; row >= 0)
+          entry_slots[i] = position[row];
     }
     outer_[col + 1] = static_cast<int>(inner_.size());
   }
+  values_scratch_.assign(inner_.size(), 0.0);
+  for (std::size_t e = 0; e < recorded_values_.size(); ++e)
+    if (slots[e] >= 0)
+      values_scratch_[at(slots[e])] += recorded_values_[e];
   matrix_ =
       Eigen::Map<const SparseMatrix>(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n),
                                      static_cast<Eigen::Index>(inner_.size()), outer_.data(),

@@ -312,21 +312,28 @@ private:
     constexpr int kDofs = Dim * kNodes;
     const auto& P = scene_.particles;
     std::array<Index, kDofs> dofs{};
-    Eigen::Matrix<double, Dim * Dim, kDofs> B = Eigen::Matrix<double, Dim * Dim, kDofs>::Zero();
+    Eigen::Matrix<double, Dim, kNodes> grads;
+    Eigen::Matrix<double, Dim * Dim, kDofs> AB;
+    Eigen::Matrix<double, kDofs, kDofs> K;
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;
       map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        for (int a = 0; a < Dim; ++a) {
+        for (int a = 0; a < Dim; ++a)
           dofs[at(Dim * k + a)] = local_dof(map, n, a);
-          for (int b = 0; b < Dim; ++b)
-            B(Dim * a + b, Dim * k + a) = grad[b];
-        }
-        ++k;
+        grads.col(k++) = grad;
       });
-      const Eigen::Matrix<double, Dim * Dim, kDofs> AB =
-          (f_bar_ ? f_bar_step_tangent(s) : step_tangent(s)) * B;
-      const Eigen::Matrix<double, kDofs, kDofs> K = P.volume0[s] * (B.transpose() * AB);
+      // B has one gradient per column (rows Dim c .. Dim c + Dim - 1 of column (j, c)) and per
+      // row of B^T, so both products take Dim terms per entry instead of Dim^2.
+      const Eigen::Matrix<double, 4, 4> A = f_bar_ ? f_bar_step_tangent(s) : step_tangent(s);
+      for (int j = 0; j < kNodes; ++j)
+        for (int c = 0; c < Dim; ++c)
+          AB.col(Dim * j + c) = A.template middleCols<Dim>(Dim * c) * grads.col(j);
+      const double V0 = P.volume0[s];
+      for (int col = 0; col < kDofs; ++col)
+        for (int i = 0; i < kNodes; ++i)
+          for (int a = 0; a < Dim; ++a)
+            K(Dim * i + a, col) = V0 * grads.col(i).dot(AB.col(col).template segment<Dim>(Dim * a));
       tangent.add_block(dofs, K);
     }
     if (f_bar_)
