@@ -104,8 +104,8 @@ int main(int argc, char** argv) {
 
   auto* verify = app.add_subcommand("verify", "Run the verification suite and write a report");
   VerifyOptions verify_options;
-  verify->add_option("--tier", verify_options.tier, "Which cases: fast or full")
-      ->check(CLI::IsMember({"fast", "full"}));
+  verify->add_option("--tier", verify_options.tier, "Which cases: fast, full or stability")
+      ->check(CLI::IsMember({"fast", "full", "stability"}));
   verify->add_option("--out", verify_options.out_dir, "Report directory (default results/verify)");
   verify->add_option("--case", verify_options.only, "Run only this case (repeatable)");
   verify->add_option("--threads", verify_options.threads, "OpenMP threads")

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <random>
 
 namespace talus {
 
@@ -66,13 +67,18 @@ void bounding_box(const BodySpec& b, Vec2& lo, Vec2& hi) {
 }
 
 // Fills particles of one body on a lattice of spacing h / ppc aligned with the grid: one point
-// at the centre of every sub-cell whose centre lies inside the body.
-void add_body(Scene<2>& scene, const BodySpec& body, int body_index) {
+// at the centre of every sub-cell whose centre (shifted by the placement offset) lies inside the
+// body. The placement jitter then moves each kept point within its own lattice cell, so a
+// rectangle aligned with the lattice keeps all its points inside; volumes stay spacing^2 (the
+// jitter perturbs the quadrature points, not the quadrature weights).
+// `lattice` receives each new point's unjittered lattice position (tractions find the body's
+// outermost lattice row or column from it).
+void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector<Vec2>& lattice) {
   const auto& grid = scene.grid;
   const double spacing = grid.cell_size() / body.particles_per_cell;
   Vec2 lo, hi;
   bounding_box(body, lo, hi);
-  const Vec2 origin = grid.origin();
+  const Vec2 origin = grid.origin() + spacing * body.placement.offset;
   std::array<Index, 2> first{}, last{};
   for (int d = 0; d < 2; ++d) {
     first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / spacing));
@@ -81,12 +87,28 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index) {
   const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
   auto& P = scene.particles;
   std::vector<Index> created;
+  // A fixed generator and distribution arithmetic of our own: std::uniform_real_distribution is
+  // implementation-defined, and the same seed must give the same points on every platform.
+  std::mt19937 random(body.placement.seed);
+  auto uniform = [&random] {
+    return 2.0 * static_cast<double>(random() - std::mt19937::min()) /
+               static_cast<double>(std::mt19937::max() - std::mt19937::min()) -
+           1.0;
+  };
   for (Index j = first[1]; j < last[1]; ++j)
     for (Index i = first[0]; i < last[0]; ++i) {
-      const Vec2 x =
+      const Vec2 site =
           origin + spacing * Vec2(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5);
-      if (!inside_body(body, x) || !grid.inside(x))
+      if (!inside_body(body, site) || !grid.inside(site))
         continue;
+      Vec2 x = site;
+      if (body.placement.jitter > 0) {
+        const Vec2 moved = x + body.placement.jitter * spacing * Vec2(uniform(), uniform());
+        // Only a lattice cell cut by the grid boundary can send a point out; it stays put.
+        if (grid.inside(moved))
+          x = moved;
+      }
+      lattice.push_back(site);
       created.push_back(P.size());
       const Index p = P.size();
       P.resize(p + 1);
@@ -152,11 +174,12 @@ Index nearest_particle(const Particles<2>& P, const Vec2& q) {
   return best;
 }
 
-void apply_tractions(Scene<2>& scene) {
+void apply_tractions(Scene<2>& scene, const std::vector<Vec2>& lattice) {
   auto& P = scene.particles;
   for (const TractionSpec& t : scene.spec.tractions) {
     // The outermost lattice row or column of the body on the given side carries the traction;
-    // each point takes the share of the side length its voxel covers.
+    // each point takes the share of the side length its voxel covers. Found and placed on the
+    // lattice sites, so a jittered point still loads its lattice voxel's face.
     const int axis = (t.side == Side::Left || t.side == Side::Right) ? 0 : 1;
     const bool upper = (t.side == Side::Right || t.side == Side::Top);
     double extreme =
@@ -165,18 +188,19 @@ void apply_tractions(Scene<2>& scene) {
       const auto s = static_cast<std::size_t>(p);
       if (P.body[s] != t.body_index)
         continue;
-      extreme = upper ? std::max(extreme, P.x[s][axis]) : std::min(extreme, P.x[s][axis]);
+      extreme = upper ? std::max(extreme, lattice[s][axis]) : std::min(extreme, lattice[s][axis]);
     }
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = static_cast<std::size_t>(p);
       if (P.body[s] != t.body_index)
         continue;
       const double tol = 1e-6 * P.half_size0[s][axis];
-      if (std::abs(P.x[s][axis] - extreme) > tol)
+      if (std::abs(lattice[s][axis] - extreme) > tol)
         continue;
       SurfaceLoad load;
       load.particle = p;
-      load.offset[axis] = (upper ? 1.0 : -1.0) * P.half_size0[s][axis];
+      load.offset = lattice[s] - P.x[s];
+      load.offset[axis] += (upper ? 1.0 : -1.0) * P.half_size0[s][axis];
       load.force = t.traction * (2.0 * P.half_size0[s][1 - axis]);
       // Only an implicit analysis has a load factor; explicit loads are always in full.
       load.constant = t.constant && scene.spec.analysis != AnalysisType::Explicit;
@@ -304,8 +328,9 @@ Scene<2> build_scene(const CaseSpec& spec) {
 
   for (const MaterialSpec& m : spec.materials)
     scene.materials.push_back(make_material(m));
+  std::vector<Vec2> lattice;
   for (std::size_t b = 0; b < spec.bodies.size(); ++b)
-    add_body(scene, spec.bodies[b], static_cast<int>(b));
+    add_body(scene, spec.bodies[b], static_cast<int>(b), lattice);
 
   scene.particles_of_material.resize(spec.materials.size());
   for (Index p = 0; p < scene.particles.size(); ++p)
@@ -321,7 +346,7 @@ Scene<2> build_scene(const CaseSpec& spec) {
     const Index p = nearest_particle(scene.particles, load.point);
     scene.particles.external_force[static_cast<std::size_t>(p)] += load.force;
   }
-  apply_tractions(scene);
+  apply_tractions(scene, lattice);
   constrain_faces(scene);
 
   locate_prescribed_nodes(scene, 0.0);

@@ -340,6 +340,7 @@ private:
   StrengthReductionSpec strength_reduction(const Item& it, const CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
   static std::vector<std::string> solver_keys();
+  BodySpec::Placement placement(const Item& it) const;
   BodySpec::InitialStress initial_stress(const Item& it, const BodySpec& b,
                                          const CaseSpec& spec) const;
   SplitSpec split(const Item& it) const;
@@ -486,6 +487,31 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
     out.push_back(std::move(s));
   }
   return out;
+}
+
+BodySpec::Placement Validator::placement(const Item& it) const {
+  const Map m(*this, it, {"offset", "jitter", "seed"});
+  BodySpec::Placement p;
+  if (m.has("offset")) {
+    p.offset = vec2(m["offset"]);
+    // Half a spacing or more would move a point into its neighbour's lattice cell.
+    if (p.offset.cwiseAbs().maxCoeff() >= 0.5)
+      fail(m["offset"], "each component must lie in the open interval (-0.5, 0.5) (a fraction "
+                        "of the point spacing)");
+  }
+  if (m.has("jitter")) {
+    p.jitter = number(m["jitter"]);
+    if (p.jitter < 0 || p.jitter >= 0.5)
+      fail(m["jitter"], "must lie in [0, 0.5) (a fraction of the point spacing, so that every "
+                        "point stays in its own lattice cell)");
+  }
+  if (m.has("seed")) {
+    const Index seed = integer(m["seed"]);
+    if (seed < 0 || seed > 4294967295)
+      fail(m["seed"], "must be an integer from 0 to 4294967295");
+    p.seed = static_cast<unsigned>(seed);
+  }
+  return p;
 }
 
 BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec& b,
@@ -671,7 +697,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
   for (const Item& item : items) {
     const Map m(*this, item,
                 {"name", "material", "shape", "centre", "radius", "min", "max", "vertices",
-                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress", "split"});
+                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress", "split",
+                 "placement"});
     BodySpec b;
     b.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -704,6 +731,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       position_field(m["velocity"], b.velocity, b.velocity_expression);
     if (m.has("angular_velocity"))
       b.angular_velocity = number(m["angular_velocity"]);
+    if (m.present("placement"))
+      b.placement = placement(m["placement"]);
 
     body_inside_grid(m, b, spec.grid);
     if (m.present("initial_stress"))

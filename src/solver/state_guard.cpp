@@ -44,6 +44,9 @@ std::optional<StateViolation> find_particle_violation(const Particles<2>& P) {
     const double J = P.F[s].determinant();
     if (!(J > 0.0))
       return particle_violation(P, s, "det F", J, "<= 0 (inverted or collapsed point)");
+    if (J < kCollapsedVolumeRatio)
+      return particle_violation(P, s, "det F", J,
+                                "< 1e-4 (collapsed point: under a hundredth of its spacing)");
     if (const auto bad = non_finite_component(P.stress[s]))
       return particle_violation(P, s, "stress", *bad, kNotFinite);
   }

@@ -16,6 +16,17 @@ VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();
 VerificationCase strip_footing();
+// The stability tier (`talus verify --tier stability`).
+VerificationCase stability_explicit_cfl();
+VerificationCase stability_implicit_dt();
+VerificationCase stability_rotation();
+VerificationCase stability_distortion();
+VerificationCase stability_recovery();
+VerificationCase stability_cell_crossing();
+VerificationCase stability_tiny_mass();
+VerificationCase stability_stiffness_contrast();
+VerificationCase stability_incompressibility();
+VerificationCase stability_perturbed();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);

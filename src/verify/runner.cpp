@@ -40,13 +40,26 @@ Check report_only(std::string quantity, double measured, std::string note) {
 }
 
 const std::vector<VerificationCase>& verification_cases() {
-  static const std::vector<VerificationCase> cases = {
-      verify_cases::vibrating_bar(),      verify_cases::vibrating_bar_implicit(),
-      verify_cases::colliding_discs(),    verify_cases::rigid_translation(),
-      verify_cases::rigid_rotation(),     verify_cases::cantilever(),
-      verify_cases::self_weight_column(), verify_cases::grashof(),
-      verify_cases::strip_footing(),
-      verify_cases::single_element()};
+  static const std::vector<VerificationCase> cases = {verify_cases::vibrating_bar(),
+                                                      verify_cases::vibrating_bar_implicit(),
+                                                      verify_cases::colliding_discs(),
+                                                      verify_cases::rigid_translation(),
+                                                      verify_cases::rigid_rotation(),
+                                                      verify_cases::cantilever(),
+                                                      verify_cases::self_weight_column(),
+                                                      verify_cases::grashof(),
+                                                      verify_cases::strip_footing(),
+                                                      verify_cases::single_element(),
+                                                      verify_cases::stability_explicit_cfl(),
+                                                      verify_cases::stability_implicit_dt(),
+                                                      verify_cases::stability_cell_crossing(),
+                                                      verify_cases::stability_tiny_mass(),
+                                                      verify_cases::stability_stiffness_contrast(),
+                                                      verify_cases::stability_incompressibility(),
+                                                      verify_cases::stability_rotation(),
+                                                      verify_cases::stability_distortion(),
+                                                      verify_cases::stability_perturbed(),
+                                                      verify_cases::stability_recovery()};
   return cases;
 }
 

@@ -49,6 +49,7 @@ TEST(StateGuard, EveryParticleFieldIsGuarded) {
       {"F", [](Particles<2>& P, std::size_t s) { P.F[s](1, 0) = -kInf; }, -kInf},
       {"det F", [](Particles<2>& P, std::size_t s) { P.F[s] << 0.5, 0.0, 0.0, -0.2; }, -0.1},
       {"det F", [](Particles<2>& P, std::size_t s) { P.F[s].setZero(); }, 0.0},
+      {"det F", [](Particles<2>& P, std::size_t s) { P.F[s] << 0.01, 0.0, 0.0, 0.005; }, 5e-5},
       {"stress", [](Particles<2>& P, std::size_t s) { P.stress[s](2, 2) = kNaN; }, kNaN},
   };
   for (const auto& c : cases) {

@@ -113,6 +113,15 @@ struct BodySpec {
   std::optional<InitialStress> initial_stress;
   double angular_velocity = 0; ///< rad/s, initial rigid spin about the body's centroid (default 0)
   std::optional<SplitSpec> split; ///< absent: the body's points never split
+  /// Where the points sit on their lattice (docs/case-format.md, bodies.placement): a shift of
+  /// the whole lattice and a random, seeded displacement of each point, both in units of the
+  /// lattice spacing h / particles_per_cell.
+  struct Placement {
+    Vec2 offset{0, 0}; ///< each component in (-0.5, 0.5)
+    double jitter = 0; ///< [0, 0.5): each point moves by up to jitter x spacing per axis
+    unsigned seed = 1; ///< of the jitter's random sequence (same seed, same points)
+  };
+  Placement placement;
   SourceLocation where;
 };
 

@@ -34,7 +34,16 @@ struct StateViolation {
   std::string describe() const;
 };
 
-/// The lowest-index particle with a non-finite position, velocity, F or stress, or det F <= 0.
+/// det F below which a point counts as collapsed. The midpoint F update never inverts a point
+/// (each increment (I - dt L/2)^-1 (I + dt L/2) has det > 0 while the Courant number is below
+/// 1), so a body driven through itself shrinks det F geometrically towards 0 instead of
+/// crossing it; the guard must catch that too. A point at 1e-4 of its volume spans a hundredth
+/// of its spacing per axis, far below anything the grid resolves, and no material of Talus
+/// (soils, metals, rubber) compacts that far.
+inline constexpr double kCollapsedVolumeRatio = 1e-4;
+
+/// The lowest-index particle with a non-finite position, velocity, F or stress, or det F below
+/// kCollapsedVolumeRatio (<= 0: inverted).
 /// Particles are named with their initial position, which survives re-indexing (splitting).
 std::optional<StateViolation> find_particle_violation(const Particles<2>& particles);
 

@@ -33,7 +33,7 @@ Check report_only(std::string quantity, double measured, std::string note = {});
 struct VerificationContext {
   std::filesystem::path case_file; ///< verification/<name>.yaml
   std::filesystem::path out_dir;   ///< where this case may write its runs and plots
-  std::string tier;                ///< "fast" or "full"
+  std::string tier;                ///< "fast", "full" or "stability"
   int threads = 0;
 };
 

@@ -1,0 +1,50 @@
+#!/usr/bin/python3
+"""Plot the histories of a stability verification case, one subplot per panel.
+
+    /usr/bin/python3 scripts/plot_stability.py HISTORIES.csv OUT.png "TITLE" [LOG_PANEL ...]
+
+HISTORIES.csv (written by src/verify/histories.cpp) has columns panel, series, x, y: every
+series of a panel is drawn as one line against x (the simulated time, or the pseudo-time of a
+load ramp). Panels named after the title are drawn with a logarithmic vertical axis of |y|.
+"""
+
+import csv
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit("usage: plot_stability.py HISTORIES.csv OUT.png TITLE [LOG_PANEL ...]")
+    log_panels = set(sys.argv[4:])
+    panels = {}
+    with open(sys.argv[1]) as f:
+        for row in csv.DictReader(f):
+            series = panels.setdefault(row["panel"], {})
+            xs, ys = series.setdefault(row["series"], ([], []))
+            xs.append(float(row["x"]))
+            ys.append(float(row["y"]))
+    if not panels:
+        sys.exit("no histories to plot")
+    fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 3.2 * len(panels)), squeeze=False)
+    for ax, (panel, series) in zip(axes[:, 0], panels.items()):
+        for label, (xs, ys) in series.items():
+            if panel in log_panels:
+                ax.semilogy(xs, [max(abs(y), 1e-300) for y in ys], label=label)
+            else:
+                ax.plot(xs, ys, label=label)
+        ax.set_title(panel, fontsize=10)
+        ax.set_xlabel("t [s]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best", ncol=2)
+    fig.suptitle(sys.argv[3], fontsize=11)
+    fig.tight_layout()
+    fig.savefig(sys.argv[2], dpi=110)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,78 @@
+// Near-incompressibility: the verification cantilever (L = 8, D = 1, 8 cells through the depth,
+// GIMP, linear elastic, P = 1) at nu = 0.3, 0.49 and 0.499. The reference is Timoshenko-Goodier
+// in plane strain (E' = E / (1 - nu^2), nu' = nu / (1 - nu)):
+//   u_y(x) = -P / (6 E' I) ((4 + 5 nu') D^2 x / 4 + (3L - x) x^2),
+// which reduces to the cantilever case's formula at nu = 0. The ratio of the MPM tip deflection
+// to it measures volumetric locking (1: none; the displacement-based MPM stiffens as the bulk
+// modulus grows against the shear modulus). The ratios are reported; the checks are that the
+// runs converge to finite numbers and that no ratio exceeds 1.05 (the clamped root can only make
+// the beam stiffer than the reference, which lets the root warp). With `solver.f_bar` in the
+// binary the F-bar runs are reported too.
+#include "cases.hpp"
+#include "references.hpp"
+
+#include "talus/core/errors.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace talus::verify_cases {
+
+namespace {
+
+using references::kBeamDepth;
+using references::kBeamInertia;
+using references::kBeamLength;
+using references::kBeamYoung;
+
+double plane_strain_deflection(double x, double P, double nu) {
+  const double E = kBeamYoung / (1 - nu * nu);
+  const double nu_ps = nu / (1 - nu);
+  return -P / (6 * E * kBeamInertia) *
+         ((4 + 5 * nu_ps) * kBeamDepth * kBeamDepth * x / 4 + (3 * kBeamLength - x) * x * x);
+}
+
+} // namespace
+
+VerificationCase stability_incompressibility() {
+  VerificationCase vc;
+  vc.name = "stability_incompressibility";
+  vc.scene = "cantilever";
+  vc.description = "Cantilever at nu = 0.3, 0.49, 0.499 (implicit, GIMP, 8 cells/depth): tip "
+                   "deflection over plane-strain Timoshenko-Goodier (volumetric locking), "
+                   "finite, with and without F-bar when the binary has it.";
+  vc.tiers = {"stability"};
+  vc.run = [](const VerificationContext& ctx) {
+    std::vector<Check> checks;
+    bool has_f_bar = true;
+    try {
+      load_verification_case(ctx, {"solver.f_bar=true"});
+    } catch (const InputError&) {
+      has_f_bar = false;
+    }
+    for (const bool f_bar : {false, true}) {
+      if (f_bar && !has_f_bar)
+        continue;
+      for (const double nu : {0.3, 0.49, 0.499}) {
+        std::vector<std::string> overrides = {fmt::format("materials[0].poisson_ratio={:g}", nu)};
+        if (f_bar)
+          overrides.push_back("solver.f_bar=true");
+        const auto dir = ctx.out_dir / fmt::format("nu_{:g}{}", nu, f_bar ? "_fbar" : "");
+        run_quiet(load_verification_case(ctx, overrides), dir, ctx.threads);
+        double x = 0;
+        const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+        const double ratio = u.y() / plane_strain_deflection(x, 1.0, nu);
+        checks.push_back(bound_check(
+            fmt::format("{}nu = {:g}: deflection / reference", f_bar ? "F-bar, " : "", nu), ratio,
+            1.05, "finite; below 1 is locking"));
+      }
+    }
+    if (!has_f_bar)
+      checks.push_back(
+          report_only("F-bar available (1 = yes)", 0.0, "solver.f_bar is not in this binary"));
+    return checks;
+  };
+  return vc;
+}
+
+} // namespace talus::verify_cases
