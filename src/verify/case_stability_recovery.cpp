@@ -4,9 +4,12 @@
 //    twice the plane-strain limit of a perfectly plastic von Mises block: equilibrium exists
 //    up to the load factor 1/sqrt(3) and never after. The run must end with exit 3 and a
 //    message naming the minimum load step, after cutting back, with the last converged state as
-//    the last frame. Its load factor must lie within min_dt = 1e-3 below the limit (0.17 %);
-//    the small-strain, finite-rotation difference of the traction (dead load on the reference
-//    face, strains ~1e-3) adds at most 0.1 %, so the bound is 0.5 %.
+//    the last frame. Its load factor must lie within 0.5 % below the limit: min_dt = 1e-3 is
+//    0.17 % of it, and the plane-strain limit is reached only asymptotically (sigma_zz tends to
+//    sigma_xx / 2 as the plastic strain grows without bound, so the load-displacement curve
+//    flattens and a load step just below the limit needs a huge displacement increment):
+//    measured, 0.575 converges and 0.576 fails (0.41 % below), so a cut-back that gave up early
+//    or a limit off by a percent fails the check.
 //  * A failing material update: verification/stability_compression.yaml squeezes a
 //    neo-Hookean block to 40 % of its height in one load step; the first iterate inverts the
 //    upper cell, the material update fails, and the step must be cut back and the run complete.
