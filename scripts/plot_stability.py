@@ -5,7 +5,8 @@
 
 HISTORIES.csv (written by src/verify/histories.cpp) has columns panel, series, x, y: every
 series of a panel is drawn as one line against x (the simulated time, or the pseudo-time of a
-load ramp). Panels named after the title are drawn with a logarithmic vertical axis of |y|.
+load ramp). Panels named after the title are drawn with a logarithmic vertical axis of |y|
+(zeros left out).
 """
 
 import csv
@@ -34,7 +35,9 @@ def main():
     for ax, (panel, series) in zip(axes[:, 0], panels.items()):
         for label, (xs, ys) in series.items():
             if panel in log_panels:
-                ax.semilogy(xs, [max(abs(y), 1e-300) for y in ys], label=label)
+                # Exact zeros (e.g. an error at t = 0) have no place on a log axis.
+                kept = [(x, abs(y)) for x, y in zip(xs, ys) if y != 0]
+                ax.semilogy([x for x, _ in kept], [y for _, y in kept], label=label)
             else:
                 ax.plot(xs, ys, label=label)
         ax.set_title(panel, fontsize=10)
