@@ -42,8 +42,9 @@ void SparseAssembler::record_dofs(std::span<const Index> dofs) {
 
 void SparseAssembler::record_entry(Index row, Index col, double value) {
   const Index pair[] = {row, col};
-  contributions_.push_back({dofs_.size(), dofs_.size() + 1, 1, 1, recorded_values_.size()});
-  record_dofs(pair);
+  const std::size_t first_dof = dofs_.size();
+  record_dofs(pair); // validates before anything else is recorded
+  contributions_.push_back({first_dof, first_dof + 1, 1, 1, recorded_values_.size()});
   recorded_values_.push_back(value);
 }
 
@@ -55,9 +56,10 @@ void SparseAssembler::add_block(std::span<const Index> dofs,
         fmt::format("SparseAssembler: a {}x{} block for {} DOFs", block.rows(), block.cols(), n));
   const auto entries = static_cast<std::size_t>(n * n);
   if (recording_) {
-    contributions_.push_back({dofs_.size(), dofs_.size(), static_cast<int>(n), static_cast<int>(n),
-                              recorded_values_.size()});
+    const std::size_t first_dof = dofs_.size();
     record_dofs(dofs);
+    contributions_.push_back(
+        {first_dof, first_dof, static_cast<int>(n), static_cast<int>(n), recorded_values_.size()});
     for (Eigen::Index j = 0; j < n; ++j)
       recorded_values_.insert(recorded_values_.end(), block.col(j).data(), block.col(j).data() + n);
     return;

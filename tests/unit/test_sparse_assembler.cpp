@@ -1,6 +1,7 @@
 // SparseAssembler (include/talus/linalg/sparse_assembler.hpp): a replayed pass gives the same
 // matrix as a freshly recorded one, a dense block adds exactly what its entries would, and a
-// pass with a different number of contributions or a block of the wrong size is refused.
+// pass with a different number of contributions, a block of the wrong size or a DOF outside
+// the matrix is refused.
 #include "talus/linalg/sparse_assembler.hpp"
 
 #include <gtest/gtest.h>
@@ -75,6 +76,14 @@ TEST(SparseAssembler, RefusesAWrongBlockOrALongerReplay) {
   a.begin(23, false);
   block_stream(a, rng, false);
   EXPECT_THROW(a.add_block(three, Eigen::MatrixXd::Zero(3, 3)), std::logic_error);
+}
+
+TEST(SparseAssembler, RefusesADofOutsideTheMatrix) {
+  SparseAssembler a;
+  a.begin(4, true);
+  const std::vector<Index> dofs = {0, 4};
+  EXPECT_THROW(a.add_block(dofs, Eigen::MatrixXd::Zero(2, 2)), std::out_of_range);
+  EXPECT_THROW(a.add(4, 0, 1.0), std::out_of_range);
 }
 
 TEST(SparseAssembler, ReplayEqualsRecording) {
