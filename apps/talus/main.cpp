@@ -1,5 +1,6 @@
-// talus: the command-line front end. Sub-commands: run, fos, verify, bench, render, info.
+// talus: the command-line front end. Sub-commands: run, fos, adapt, verify, bench, render, info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
+#include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/linear_solver.hpp"
@@ -72,6 +73,14 @@ int fos_command(const std::string& case_file, const std::vector<std::string>& ov
   return r.exit_code;
 }
 
+int adapt_command(const std::string& case_file, const std::vector<std::string>& overrides,
+                  const AdaptOptions& options) {
+  const AdaptReport report = adapt_case(case_file, overrides, options);
+  fmt::print("marked {} of {} body cells; adapted case: {} --set ...\n{}", report.marked_cells,
+             report.body_cells, case_file, adapt_table(report));
+  return kExitOk;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -101,6 +110,27 @@ int main(int argc, char** argv) {
   fos->add_flag("--force", force, "Replace the results of an earlier search in the directory");
   fos->add_option("--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
+
+  auto* adapt = app.add_subcommand(
+      "adapt", "Coarse pre-run, finer points where it yielded or distorted, then the full run");
+  AdaptOptions adapt_options;
+  std::string adapt_out;
+  adapt->add_option("case", case_file, "Case file (YAML)")->required();
+  adapt->add_option("--out", adapt_out, "Output directory (default results/<case name>_adapt)");
+  adapt->add_option("--set", overrides, "Override a case key (repeatable)");
+  adapt->add_flag("--force", adapt_options.force, "Replace the results of an earlier adapt");
+  adapt->add_option("--threads", adapt_options.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  adapt->add_option("--factor", adapt_options.factor,
+                    "Points per direction in marked cells, times the body's (default 2)");
+  adapt->add_option("--plastic-strain", adapt_options.plastic_strain,
+                    "Mark where the accumulated plastic strain exceeds this (default 0.1)");
+  adapt->add_option("--aspect-ratio", adapt_options.aspect_ratio,
+                    "Mark where a voxel's aspect ratio exceeds this (default 2)");
+  adapt->add_option("--buffer", adapt_options.buffer_cells,
+                    "Cells marked around each marked cell (default 1)");
+  adapt->add_flag("--benchmark", adapt_options.benchmark,
+                  "Add a uniform fine run and compare coarse and adapted with it");
 
   auto* verify = app.add_subcommand("verify", "Run the verification suite and write a report");
   VerifyOptions verify_options;
@@ -159,6 +189,10 @@ int main(int argc, char** argv) {
       return run_command(case_file, overrides, out_dir, force, threads);
     if (*fos)
       return fos_command(case_file, overrides, out_dir, force, threads);
+    if (*adapt) {
+      adapt_options.out_dir = adapt_out;
+      return adapt_command(case_file, overrides, adapt_options);
+    }
     if (*verify)
       return run_verification(verify_options);
     if (*bench)

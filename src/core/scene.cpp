@@ -4,6 +4,7 @@
 #include "talus/core/expression.hpp"
 #include "talus/core/splitting.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -66,24 +67,75 @@ void bounding_box(const BodySpec& b, Vec2& lo, Vec2& hi) {
   }
 }
 
-// Fills particles of one body on a lattice of spacing h / ppc aligned with the grid: one point
-// at the centre of every sub-cell whose centre (shifted by the placement offset) lies inside the
-// body. The placement jitter then moves each kept point within its own lattice cell, so a
-// rectangle aligned with the lattice keeps all its points inside; volumes stay spacing^2 (the
-// jitter perturbs the quadrature points, not the quadrature weights).
-// `lattice` receives each new point's unjittered lattice position (tractions find the body's
-// outermost lattice row or column from it).
-void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector<Vec2>& lattice) {
-  const auto& grid = scene.grid;
-  const double spacing = grid.cell_size() / body.particles_per_cell;
-  Vec2 lo, hi;
-  bounding_box(body, lo, hi);
-  const Vec2 origin = grid.origin() + spacing * body.placement.offset;
+// The cell-centred lattice of the sub-cells of spacing h / n (n per direction) that covers
+// [lo, hi], aligned with the grid and shifted by `offset` spacings; f(site, spacing) for each
+// sub-cell centre.
+template <class F>
+void for_each_lattice_point(const Grid<2>& grid, const Vec2& lo, const Vec2& hi, int n,
+                            const Vec2& offset, F&& f) {
+  const double spacing = grid.cell_size() / n;
+  const Vec2 origin = grid.origin() + spacing * offset;
   std::array<Index, 2> first{}, last{};
   for (int d = 0; d < 2; ++d) {
     first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / spacing));
     last[d] = static_cast<Index>(std::ceil((hi[d] - origin[d]) / spacing));
   }
+  for (Index j = first[1]; j < last[1]; ++j)
+    for (Index i = first[0]; i < last[0]; ++i)
+      f(origin + spacing * Vec2(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5),
+        spacing);
+}
+
+bool in_refine_box(const BodySpec::Refine& refine, const Vec2& q) {
+  return std::any_of(refine.boxes.begin(), refine.boxes.end(), [&](const auto& b) {
+    return q.x() >= b[0] && q.x() <= b[2] && q.y() >= b[1] && q.y() <= b[3];
+  });
+}
+
+// The body's lattice sites: particles_per_cell per direction in every grid cell, or
+// refine.particles_per_cell in the cells whose centre lies in a refine box (talus adapt). The
+// uniform lattice is laid out over the whole bounding box at once (the historical order of
+// the points); a refined body cell by cell, each cell's sub-lattice shifted by the placement
+// offset in its own spacing.
+template <class F> void for_each_body_site(const Grid<2>& grid, const BodySpec& body, F&& f) {
+  Vec2 lo, hi;
+  bounding_box(body, lo, hi);
+  const Vec2& offset = body.placement.offset;
+  if (!body.refine) {
+    for_each_lattice_point(grid, lo, hi, body.particles_per_cell, offset, f);
+    return;
+  }
+  const double h = grid.cell_size();
+  const Vec2 origin = grid.origin();
+  std::array<Index, 2> first{}, last{};
+  for (int d = 0; d < 2; ++d) {
+    first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / h));
+    last[d] = static_cast<Index>(std::ceil((hi[d] - origin[d]) / h));
+  }
+  for (Index cj = first[1]; cj < last[1]; ++cj)
+    for (Index ci = first[0]; ci < last[0]; ++ci) {
+      const Vec2 centre =
+          origin + h * Vec2(static_cast<double>(ci) + 0.5, static_cast<double>(cj) + 0.5);
+      const Index n = in_refine_box(*body.refine, centre) ? body.refine->particles_per_cell
+                                                          : body.particles_per_cell;
+      const double spacing = h / static_cast<double>(n);
+      const Vec2 shifted = origin + spacing * offset;
+      for (Index sj = 0; sj < n; ++sj)
+        for (Index si = 0; si < n; ++si)
+          f(shifted + spacing * Vec2(static_cast<double>(ci * n + si) + 0.5,
+                                     static_cast<double>(cj * n + sj) + 0.5),
+            spacing);
+    }
+}
+
+// Fills the particles of one body: one point at every lattice site (for_each_body_site) that
+// lies inside the body. The placement jitter then moves each kept point within its own lattice
+// cell, so a rectangle aligned with the lattice keeps all its points inside; volumes stay
+// spacing^2 (the jitter perturbs the quadrature points, not the quadrature weights).
+// `lattice` receives each new point's unjittered lattice position (tractions find the body's
+// outermost lattice row or column from it).
+void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector<Vec2>& lattice) {
+  const auto& grid = scene.grid;
   const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
   auto& P = scene.particles;
   std::vector<Index> created;
@@ -95,34 +147,31 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
                static_cast<double>(std::mt19937::max() - std::mt19937::min()) -
            1.0;
   };
-  for (Index j = first[1]; j < last[1]; ++j)
-    for (Index i = first[0]; i < last[0]; ++i) {
-      const Vec2 site =
-          origin + spacing * Vec2(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5);
-      if (!inside_body(body, site) || !grid.inside(site))
-        continue;
-      Vec2 x = site;
-      if (body.placement.jitter > 0) {
-        const Vec2 moved = x + body.placement.jitter * spacing * Vec2(uniform(), uniform());
-        // Only a lattice cell cut by the grid boundary can send a point out; it stays put.
-        if (grid.inside(moved))
-          x = moved;
-      }
-      lattice.push_back(site);
-      created.push_back(P.size());
-      const Index p = P.size();
-      P.resize(p + 1);
-      const auto s = static_cast<std::size_t>(p);
-      P.x[s] = x;
-      P.x0[s] = x;
-      P.volume0[s] = spacing * spacing;
-      P.volume[s] = P.volume0[s];
-      P.mass[s] = mat.density * P.volume0[s];
-      P.half_size0[s] = Vec2::Constant(0.5 * spacing);
-      P.material[s] = body.material_index;
-      P.body[s] = body_index;
-      P.v[s] = body.velocity;
+  for_each_body_site(grid, body, [&](const Vec2& site, double spacing) {
+    if (!inside_body(body, site) || !grid.inside(site))
+      return;
+    Vec2 x = site;
+    if (body.placement.jitter > 0) {
+      const Vec2 moved = x + body.placement.jitter * spacing * Vec2(uniform(), uniform());
+      // Only a lattice cell cut by the grid boundary can send a point out; it stays put.
+      if (grid.inside(moved))
+        x = moved;
     }
+    lattice.push_back(site);
+    created.push_back(P.size());
+    const Index p = P.size();
+    P.resize(p + 1);
+    const auto s = static_cast<std::size_t>(p);
+    P.x[s] = x;
+    P.x0[s] = x;
+    P.volume0[s] = spacing * spacing;
+    P.volume[s] = P.volume0[s];
+    P.mass[s] = mat.density * P.volume0[s];
+    P.half_size0[s] = Vec2::Constant(0.5 * spacing);
+    P.material[s] = body.material_index;
+    P.body[s] = body_index;
+    P.v[s] = body.velocity;
+  });
   if (created.empty())
     throw InputError(body.where, fmt::format("body '{}' contains no material point at cell size "
                                              "{:g} with {} particles per cell; refine the grid",

@@ -344,6 +344,7 @@ private:
   BodySpec::InitialStress initial_stress(const Item& it, const BodySpec& b,
                                          const CaseSpec& spec) const;
   SplitSpec split(const Item& it) const;
+  BodySpec::Refine refine(const Item& it) const;
 
   /// Remembers names of one kind and rejects a repeat.
   class UniqueNames {
@@ -684,6 +685,28 @@ SplitSpec Validator::split(const Item& it) const {
   return s;
 }
 
+BodySpec::Refine Validator::refine(const Item& it) const {
+  const Map m(*this, it, {"particles_per_cell", "boxes"});
+  BodySpec::Refine r;
+  const Item ppc = m.required("particles_per_cell");
+  const Index n = integer(ppc);
+  if (n < 1 || n > 16)
+    fail(ppc, "must be an integer from 1 to 16 (got " + ppc.node.Scalar() + ")");
+  r.particles_per_cell = static_cast<int>(n);
+  for (const Item& box : list(m.required("boxes"))) {
+    const std::vector<Item> values = list(box);
+    if (values.size() != 4)
+      fail(box, "give a box as [x_min, y_min, x_max, y_max] in m");
+    std::array<double, 4> b{};
+    for (std::size_t k = 0; k < 4; ++k)
+      b[k] = number(values[k]);
+    if (!(b[2] > b[0] && b[3] > b[1]))
+      fail(box, "a box needs x_max > x_min and y_max > y_min");
+    r.boxes.push_back(b);
+  }
+  return r;
+}
+
 std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) const {
   const std::vector<Item> items = list(it);
   if (items.empty())
@@ -698,7 +721,7 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
     const Map m(*this, item,
                 {"name", "material", "shape", "centre", "radius", "min", "max", "vertices",
                  "particles_per_cell", "velocity", "angular_velocity", "initial_stress", "split",
-                 "placement"});
+                 "placement", "refine"});
     BodySpec b;
     b.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -739,6 +762,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       b.initial_stress = initial_stress(m["initial_stress"], b, spec);
     if (m.present("split"))
       b.split = split(m["split"]);
+    if (m.present("refine"))
+      b.refine = refine(m["refine"]);
     out.push_back(std::move(b));
   }
   return out;

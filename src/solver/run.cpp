@@ -445,6 +445,8 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     result.extra["seconds_post_processing"] = recorder.post_seconds;
   // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).
   result.particles = scene.particles.size();
+  if (options.final_state)
+    options.final_state(scene);
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 

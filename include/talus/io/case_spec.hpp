@@ -122,6 +122,13 @@ struct BodySpec {
     unsigned seed = 1; ///< of the jitter's random sequence (same seed, same points)
   };
   Placement placement;
+  /// Local refinement (written by `talus adapt`): the grid cells whose centre lies in one of
+  /// `boxes` get `particles_per_cell` points per direction instead of the body's.
+  struct Refine {
+    int particles_per_cell = 4;
+    std::vector<std::array<double, 4>> boxes; ///< m, [x_min, y_min, x_max, y_max]
+  };
+  std::optional<Refine> refine;
   SourceLocation where;
 };
 

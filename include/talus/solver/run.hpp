@@ -5,16 +5,22 @@
 #include "talus/io/case_spec.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
 namespace talus {
+
+template <int Dim> struct Scene;
 
 struct RunOptions {
   std::filesystem::path out_dir; ///< empty: results/<case name>
   bool force = false;            ///< replace the result files of an earlier run in out_dir
   int threads = 0;               ///< OpenMP threads; 0 keeps the OpenMP default
   bool progress = true;          ///< progress line (terminal) or periodic log lines
+  /// Called with the state the run ended in (any status), before summary.json is written:
+  /// lets a caller (talus adapt) inspect the points without reading the results back.
+  std::function<void(const Scene<2>&)> final_state{};
 };
 
 struct RunResult {
