@@ -16,6 +16,7 @@ VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();
 VerificationCase strip_footing();
+VerificationCase slope_fos();
 // The stability tier (`talus verify --tier stability`).
 VerificationCase stability_explicit_cfl();
 VerificationCase stability_implicit_dt();

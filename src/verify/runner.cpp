@@ -49,6 +49,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::self_weight_column(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),
+                                                      verify_cases::slope_fos(),
                                                       verify_cases::single_element(),
                                                       verify_cases::stability_explicit_cfl(),
                                                       verify_cases::stability_implicit_dt(),
