@@ -194,6 +194,7 @@ private:
   void particle_update(double dt) {
     auto& P = scene_.particles;
     if (apic_) {
+      old_x_.resize(at(P.size()));
       parallel_for(P.size(), [&](Index p) { apic_update(p, dt); });
       return;
     }
@@ -238,9 +239,15 @@ private:
     }
     P.v[s] = v_new;
     P.affine_velocity[s] = C;
+    old_x_[s] = P.x[s];
     P.x[s] += dt * v_new;
   }
 
+  // MUSL's second P2G, with the weights of the start of the step (the map is not rebuilt). With
+  // APIC the affine field must be anchored where those weights were taken, x_p^n: anchored at
+  // the moved point x_p^{n+1} = x_p^n + dt v_p it would add -dt C_p v_p to every point's
+  // velocity, for a spin C_p v_p = -omega^2 (x_p - c), a spurious radial expansion
+  // dt omega^2 (x - c) whose gradient dt omega^2 I entered L and F every step.
   void remap_velocity() {
     const auto& P = scene_.particles;
     const auto& nodes = active();
@@ -253,7 +260,9 @@ private:
       V mv = V::Zero();
       const V xi = node_position(n);
       map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
-        mv += (w * P.mass[at(p)]) * particle_velocity_at(p, xi);
+        const V v =
+            apic_ ? V(P.v[at(p)] + P.affine_velocity[at(p)] * (xi - old_x_[at(p)])) : P.v[at(p)];
+        mv += (w * P.mass[at(p)]) * v;
       });
       velocity_[at(n)] = mv / mass_[at(n)];
       constrain(n, velocity_[at(n)]);
@@ -288,6 +297,7 @@ private:
   ParticleGridMap<Dim, Shape> map_;
   std::vector<double> mass_;
   std::vector<V> momentum_, force_, velocity_, acceleration_;
+  std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
   std::array<Vec2, kFaceCount> reactions_{};
   double tiny_mass_ = 0;
   bool apic_ = false;

@@ -8,7 +8,9 @@
 // within a quarter turn. Energy bounded: the kinetic energy of the spin may only decay, never
 // grow by more than the 1 %. Both transfers run: APIC (the scene's) and FLIP. Measured:
 // FLIP keeps the energy bounded (it loses most of the angular momentum at the disc's edge);
-// APIC fails, its disc shrinks and spins up (docs/architecture.md, "Known defect: long spins").
+// APIC, once MUSL's remap anchored its affine field at the start-of-step positions, stays at
+// 1.7x the centrifugal stress with no energy growth, but its disc still spreads and slows
+// (docs/architecture.md, "Long spins").
 #include "cases.hpp"
 #include "histories.hpp"
 
