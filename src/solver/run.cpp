@@ -374,7 +374,8 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
 
 } // namespace
 
-void prepare_output_directory(const fs::path& dir, bool force) {
+void claim_output_directory(const fs::path& dir, bool force,
+                            std::span<const char* const> owned_entries) {
   std::error_code ec;
   if (!fs::exists(dir, ec))
     return;
@@ -388,8 +389,12 @@ void prepare_output_directory(const fs::path& dir, bool force) {
                      fmt::format("output directory '{}' already holds results; choose another "
                                  "--out or pass --force to replace them",
                                  dir.string()));
-  for (const char* name : kResultFiles)
-    fs::remove(dir / name, ec);
+  for (const char* name : owned_entries)
+    fs::remove_all(dir / name, ec);
+}
+
+void prepare_output_directory(const fs::path& dir, bool force) {
+  claim_output_directory(dir, force, kResultFiles);
 }
 
 RunResult run_case(const CaseSpec& spec, const RunOptions& options) {

@@ -26,27 +26,8 @@ double reduced_angle(double degrees, double factor) {
 }
 
 // The files and the folder a search owns; --force replaces exactly these.
-const char* const kFosFiles[] = {"fos.log", "fos.csv", "fos.json", "fos.png"};
 constexpr const char* kTrialsDir = "trials";
-
-void prepare_fos_directory(const fs::path& dir, bool force) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec))
-    return;
-  if (!fs::is_directory(dir, ec))
-    throw InputError({"--out", 0, 0, ""},
-                     fmt::format("'{}' exists and is not a directory", dir.string()));
-  if (fs::is_empty(dir, ec))
-    return;
-  if (!force)
-    throw InputError({"--out", 0, 0, ""},
-                     fmt::format("output directory '{}' already holds results; choose another "
-                                 "--out or pass --force to replace them",
-                                 dir.string()));
-  for (const char* name : kFosFiles)
-    fs::remove(dir / name, ec);
-  fs::remove_all(dir / kTrialsDir, ec);
-}
+const char* const kFosEntries[] = {"fos.log", "fos.csv", "fos.json", "fos.png", kTrialsDir};
 
 // A CSV field that may hold commas or quotes.
 std::string quoted(const std::string& text) {
@@ -225,7 +206,7 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   FosRunResult result;
   result.out_dir =
       options.out_dir.empty() ? fs::path("results") / (spec.name + "-fos") : options.out_dir;
-  prepare_fos_directory(result.out_dir, options.force);
+  claim_output_directory(result.out_dir, options.force, kFosEntries);
   fs::create_directories(result.out_dir / kTrialsDir);
   std::ofstream log(result.out_dir / "fos.log");
   log << fmt::format("# talus fos {}: strength reduction c / F, tan(phi) / F; a trial fails when "

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <span>
 #include <string>
 
 namespace talus {
@@ -37,7 +38,12 @@ struct RunResult {
   std::map<std::string, double> extra; ///< solver statistics, also written to summary.json
 };
 
-/// Checks that `dir` may receive results (absent, empty, or `force`); throws InputError.
+/// Checks that `dir` may receive results (absent, empty, or `force`); throws InputError. With
+/// `force`, removes exactly the entries a command owns there (files or folders), nothing else.
+void claim_output_directory(const std::filesystem::path& dir, bool force,
+                            std::span<const char* const> owned_entries);
+
+/// claim_output_directory for the files of one run (run.h5, run.xmf, timeseries.csv, ...).
 void prepare_output_directory(const std::filesystem::path& dir, bool force);
 
 RunResult run_case(const CaseSpec& spec, const RunOptions& options);
