@@ -16,6 +16,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace talus {
@@ -54,7 +55,13 @@ public:
     factorized_ = false;
     A_ = A;
     A_.makeCompressed();
-    solver_.analyzePattern(A_);
+    if constexpr (std::is_same_v<Solver, EigenBicgstab>)
+      // Eigen 3.4's IncompleteLUT::analyzePattern leaves its status unset and BiCGSTAB's
+      // analyzePattern reads it (undefined behaviour, reported by UBSan); a full compute sets it.
+      // It costs one extra incomplete factorisation per analysed pattern.
+      solver_.compute(A_);
+    else
+      solver_.analyzePattern(A_);
     analyzed_ = true;
   }
 
