@@ -6,6 +6,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "temporary_directory.hpp"
 
 #include <gtest/gtest.h>
 
@@ -78,27 +79,14 @@ TEST(Refine, BadValuesAreInputErrorsAtTheirKey) {
   }
 }
 
-class AdaptRun : public ::testing::Test {
+class AdaptRun : public talus::test_support::TemporaryDirectoryTest {
 protected:
   void SetUp() override {
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100 && root_.empty(); ++attempt) {
-      const fs::path candidate =
-          fs::temp_directory_path() /
-          ("talus_adapt_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(candidate, ec))
-        root_ = candidate;
-    }
-    ASSERT_FALSE(root_.empty()) << "cannot create a temporary directory";
+    TemporaryDirectoryTest::SetUp();
+    if (HasFatalFailure())
+      return;
     std::ofstream(root_ / "column.yaml") << kColumn;
   }
-  void TearDown() override {
-    std::error_code ec;
-    if (!root_.empty())
-      fs::remove_all(root_, ec);
-  }
-  fs::path root_;
 };
 
 // The pre-run marks the yielded foot but not the whole column; the adapted run has more points

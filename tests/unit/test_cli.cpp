@@ -3,6 +3,7 @@
 // files it leaves behind (run.h5, run.xmf, timeseries.csv, summary.json).
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
+#include "temporary_directory.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -248,29 +249,15 @@ private:
 
 /// Per-test fixture: a fresh temporary directory `root` holding `work` (the child's working
 /// directory, where the case files and output directories go) and the captured output files.
-class Cli : public ::testing::Test {
+class Cli : public talus::test_support::TemporaryDirectoryTest {
 protected:
   void SetUp() override {
     ASSERT_TRUE(fs::is_regular_file(TALUS_BINARY)) << "talus binary not found: " << TALUS_BINARY;
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::random_device rd;
-    const fs::path base = fs::temp_directory_path();
-    for (int attempt = 0; attempt < 100 && root_.empty(); ++attempt) {
-      const fs::path candidate = base / ("talus_cli_" + std::string(info->name()) + "_" +
-                                         std::to_string(::getpid()) + "_" + std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(candidate, ec))
-        root_ = candidate;
-    }
-    ASSERT_FALSE(root_.empty()) << "cannot create a temporary directory in " << base;
+    TemporaryDirectoryTest::SetUp();
+    if (HasFatalFailure())
+      return;
     work_ = root_ / "work";
     fs::create_directory(work_);
-  }
-  void TearDown() override {
-    if (!root_.empty()) {
-      std::error_code ec;
-      fs::remove_all(root_, ec);
-    }
   }
 
   const fs::path& work() const { return work_; }
@@ -285,7 +272,7 @@ protected:
     return child.wait();
   }
 
-  fs::path root_, work_;
+  fs::path work_;
 };
 
 /// The four result files of a run, byte for byte, with their modification times.

@@ -9,6 +9,7 @@
 #include "talus/io/results.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/solver/run.hpp"
+#include "temporary_directory.hpp"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -87,27 +88,8 @@ nlohmann::json read_json(const fs::path& file) {
 }
 
 /// A fresh temporary directory per test, removed at the end.
-class Implicit : public ::testing::Test {
+class Implicit : public talus::test_support::TemporaryDirectoryTest {
 protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100 && root_.empty(); ++attempt) {
-      const fs::path candidate =
-          fs::temp_directory_path() / ("talus_implicit_" + std::string(info->name()) + "_" +
-                                       std::to_string(::getpid()) + "_" + std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(candidate, ec))
-        root_ = candidate;
-    }
-    ASSERT_FALSE(root_.empty()) << "cannot create a temporary directory";
-  }
-  void TearDown() override {
-    std::error_code ec;
-    if (!root_.empty())
-      fs::remove_all(root_, ec);
-  }
-
   /// Reads `text` with `overrides` and runs it in-process into root/<dir>.
   talus::RunResult run(const std::string& text, const std::vector<std::string>& overrides,
                        const std::string& dir) {
@@ -117,8 +99,6 @@ protected:
     options.progress = false;
     return talus::run_case(spec, options);
   }
-
-  fs::path root_;
 };
 
 /// Mean displacement (first to last frame) of the points with the largest initial x.

@@ -12,6 +12,7 @@
 #include "talus/material/material.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/run.hpp"
+#include "temporary_directory.hpp"
 
 #include <gtest/gtest.h>
 
@@ -322,26 +323,8 @@ TEST(Splitting, NoSplitLeavesResultsUnchanged) {
 }
 
 /// A fresh temporary directory per test, removed at the end.
-class SplittingRuns : public ::testing::Test {
+class SplittingRuns : public talus::test_support::TemporaryDirectoryTest {
 protected:
-  void SetUp() override {
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100 && root_.empty(); ++attempt) {
-      const fs::path candidate =
-          fs::temp_directory_path() /
-          ("talus_split_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-      std::error_code ec;
-      if (fs::create_directory(candidate, ec))
-        root_ = candidate;
-    }
-    ASSERT_FALSE(root_.empty()) << "cannot create a temporary directory";
-  }
-  void TearDown() override {
-    std::error_code ec;
-    if (!root_.empty())
-      fs::remove_all(root_, ec);
-  }
-  fs::path root_;
 };
 
 // A soft block thrown apart by a linear velocity field v_x = 4 (x - 0.5) stretches past
