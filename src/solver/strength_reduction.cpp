@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -120,6 +121,7 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
   j["trials"] = r.fos.trials.size();
   j["newton_iterations"] = r.newton_iterations;
   j["wall_seconds"] = r.wall_seconds;
+  j["cpu_seconds"] = r.cpu_seconds;
   std::ofstream(file) << j.dump(2) << "\n";
 }
 
@@ -203,6 +205,7 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
                      "talus fos needs a 'strength_reduction' section in the case (at least its "
                      "crest 'probe'); see docs/case-format.md");
   const auto wall_start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   FosRunResult result;
   result.out_dir =
       options.out_dir.empty() ? fs::path("results") / (spec.name + "-fos") : options.out_dir;
@@ -244,9 +247,11 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
     result.newton_iterations += t.newton_iterations;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   result.exit_code = interrupted ? kExitOther : result.fos.bracketed ? kExitOk : kExitNumerical;
-  log << fmt::format("# {}; {} Newton iterations in {} trials, {:.2f} s\n", result.fos.message,
-                     result.newton_iterations, result.fos.trials.size(), result.wall_seconds);
+  log << fmt::format("# {}; {} Newton iterations in {} trials, {:.2f} s ({:.2f} s of CPU)\n",
+                     result.fos.message, result.newton_iterations, result.fos.trials.size(),
+                     result.wall_seconds, result.cpu_seconds);
   write_fos_csv(result.out_dir / "fos.csv", result.fos);
   write_fos_json(result.out_dir / "fos.json", spec, result);
   run_python_script("plot_fos.py",

@@ -203,6 +203,9 @@ TEST(StrengthReduction, SearchWritesItsFilesAndKeepsEarlierResults) {
   EXPECT_EQ(trial_lines, static_cast<int>(r.fos.trials.size()));
   const auto json = nlohmann::json::parse(std::ifstream(dir / "fos.json"));
   EXPECT_DOUBLE_EQ(json["factor_of_safety"].get<double>(), r.fos.value());
+  // The trials ran in this process, so the search took processor time, and reports it.
+  EXPECT_GT(r.cpu_seconds, 0.0);
+  EXPECT_DOUBLE_EQ(json["cpu_seconds"].get<double>(), r.cpu_seconds);
   EXPECT_THROW(run_factor_of_safety(spec, options), InputError);
   options.force = true;
   EXPECT_EQ(run_factor_of_safety(spec, options).fos.trials.size(), r.fos.trials.size());

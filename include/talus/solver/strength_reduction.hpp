@@ -62,6 +62,9 @@ struct FosRunResult {
   FactorOfSafety fos;
   std::filesystem::path out_dir;
   double wall_seconds = 0;
+  /// Processor time of the search (user + system, all threads): on a machine shared with other
+  /// work the wall time says little, this is the search's own cost.
+  double cpu_seconds = 0;
   Index newton_iterations = 0; ///< summed over the trials
   int exit_code = 0;           ///< 0 bracketed, 3 not bracketed, 1 interrupted
 };
