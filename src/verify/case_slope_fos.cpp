@@ -12,8 +12,10 @@
 // would depend on the machine); the target is under 60 s on 2 cores. Measured at
 // h = 0.5 m with F-bar: FoS 1.414 (bracket [1.406, 1.422]), 8 trials, 579 Newton iterations
 // (at most 12 per attempt, min_dt 1/32; 1006 with 20 and 1/128, same trials and bracket),
-// 20.6 s of CPU (36.9 s before), 39 s wall on the shared machine, about 20 s when idle; the
-// code is serial, so the second core does not help. In the fast tier for that cost.
+// 20.6 s of CPU (36.9 s before), 39 s wall on the shared machine; with --threads 1 12.5 s CPU,
+// 13 s wall (a second OpenMP thread does not help these small trials and its spin-waiting
+// costs; docs/architecture.md). In the fast tier for that cost. The bracket depends on the
+// Newton budget of the failure criterion (40 iterations, min_dt 1/512: F = 1.5 stands).
 // Without F-bar the same search gives 1.60, 14 % high: volumetric locking.
 #include "cases.hpp"
 #include "talus/solver/strength_reduction.hpp"
