@@ -55,6 +55,32 @@ bool within(const std::string& inner, const std::string& outer) {
 }
 
 /// How a node looks, for "expected X, got Y" messages.
+/// "stage 'name'" of the first explicit stage ("the analysis" without stages), or empty.
+std::string explicit_stage(const CaseSpec& spec) {
+  if (spec.stages.empty())
+    return spec.analysis == AnalysisType::Explicit ? "the analysis" : "";
+  for (const StageSpec& stage : spec.stages)
+    if (stage.analysis == AnalysisType::Explicit)
+      return "stage '" + stage.name + "'";
+  return "";
+}
+
+bool any_implicit_stage(const CaseSpec& spec) {
+  if (spec.stages.empty())
+    return spec.analysis != AnalysisType::Explicit;
+  return std::any_of(spec.stages.begin(), spec.stages.end(), [](const StageSpec& stage) {
+    return stage.analysis != AnalysisType::Explicit;
+  });
+}
+
+/// Whether a strength factor has anything to divide (c and tan(phi) of a frictional model).
+bool has_reducible_material(const std::vector<MaterialSpec>& materials) {
+  return std::any_of(materials.begin(), materials.end(), [](const MaterialSpec& mat) {
+    return mat.model == MaterialModel::Tresca || mat.model == MaterialModel::MohrCoulomb ||
+           mat.model == MaterialModel::DruckerPrager;
+  });
+}
+
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {
   case YAML::NodeType::Null:
@@ -333,10 +359,14 @@ private:
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
   std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;
   TimeSpec time(const Item& it) const;
-  void check_explicit_time_step(const Map& top, const CaseSpec& spec) const;
+  std::vector<StageSpec> stages(const Item& it, const CaseSpec& spec) const;
+  void check_time_step(const Item& time_item, AnalysisType analysis, const TimeSpec& time,
+                       const CaseSpec& spec) const;
+  void check_explicit_time_step(const Item& time_item, const TimeSpec& time,
+                                const CaseSpec& spec) const;
   OutputSpec output(const Item& it, bool any_plastic) const;
   std::vector<ProbeSpec> probes(const Item& it) const;
-  SolverSpec solver(const Item& it, AnalysisType analysis) const;
+  SolverSpec solver(const Item& it, const CaseSpec& spec) const;
   StrengthReductionSpec strength_reduction(const Item& it, const CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
   static std::vector<std::string> solver_keys();
@@ -1016,9 +1046,10 @@ std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec
     }
     if (!p.displacement[0] && !p.displacement[1])
       fail(d, "both components are free (~); prescribe at least one");
-    if (spec.analysis == AnalysisType::Explicit)
+    if (const std::string stage = explicit_stage(spec); !stage.empty())
       fail(m.self(), "prescribed displacements need an implicit analysis "
-                     "(implicit_quasistatic or implicit_dynamic)");
+                     "(implicit_quasistatic or implicit_dynamic), but " +
+                         stage + " is explicit");
     out.push_back(std::move(p));
   }
   return out;
@@ -1027,7 +1058,8 @@ std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec
 // A fixed explicit step above h / c_p amplifies the stiffest mode of the grid (the CFL limit of
 // the lumped-mass central-difference scheme); such a step is refused, not run into a blow-up.
 // Velocities are checked while stepping: the run stops once dt (c_p + |v|) / h exceeds 1.
-void Validator::check_explicit_time_step(const Map& top, const CaseSpec& spec) const {
+void Validator::check_explicit_time_step(const Item& time_item, const TimeSpec& time,
+                                         const CaseSpec& spec) const {
   double fastest = 0;
   std::string material;
   for (const auto& body : spec.bodies)
@@ -1041,14 +1073,72 @@ void Validator::check_explicit_time_step(const Map& top, const CaseSpec& spec) c
         }
       }
   const double limit = spec.grid.cell_size / fastest;
-  if (*spec.time.dt > limit) {
-    const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+  if (*time.dt > limit) {
+    const Map time_map(*this, time_item, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
     fail(time_map["dt"],
          fmt::format("explicit time step {:g} s is above the stability limit h / c_p = {:g} s "
                      "(cell size {:g} m, p-wave speed {:g} m/s of material '{}'); use dt <= "
                      "{:g} or set time.cfl instead",
-                     *spec.time.dt, limit, spec.grid.cell_size, fastest, material, limit));
+                     *time.dt, limit, spec.grid.cell_size, fastest, material, limit));
   }
+}
+
+// An implicit analysis steps by dt (its first load step); an explicit one by dt or a CFL number.
+void Validator::check_time_step(const Item& time_item, AnalysisType analysis, const TimeSpec& time,
+                                const CaseSpec& spec) const {
+  if (analysis != AnalysisType::Explicit && time.cfl) {
+    const Map time_map(*this, time_item, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+    fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
+                          "needs 'dt', its initial load step");
+  }
+  if (analysis == AnalysisType::Explicit && time.dt)
+    check_explicit_time_step(time_item, time, spec);
+}
+
+std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) const {
+  std::vector<StageSpec> out;
+  UniqueNames names(*this, "stage");
+  for (const Item& item : list(it)) {
+    const Map m(*this, item,
+                {"name", "analysis", "time", "strength_factor", "wall_time_limit", "at_rest"});
+    StageSpec s;
+    s.where = locate(m.self());
+    s.name = name(m.required("name"));
+    names.add(s.name, m["name"], item.path);
+    s.analysis = analysis(m.required("analysis"));
+    const Item time_item = m.required("time");
+    s.time = time(time_item);
+    check_time_step(time_item, s.analysis, s.time, spec);
+    if (m.has("strength_factor")) {
+      s.strength_factor = positive(m["strength_factor"]);
+      if (!has_reducible_material(spec.materials))
+        fail(m["strength_factor"], "a strength factor divides cohesion and tan(friction_angle); "
+                                   "the case has no tresca, mohr_coulomb or drucker_prager "
+                                   "material");
+    }
+    if (m.has("wall_time_limit"))
+      s.wall_time_limit = positive(m["wall_time_limit"]);
+    if (m.present("at_rest")) {
+      if (s.analysis == AnalysisType::ImplicitQuasistatic)
+        fail(m.key("at_rest"), "'at_rest' reads the kinetic energy; a quasi-static stage has "
+                               "none (use implicit_dynamic or explicit)");
+      const Map rest(*this, m["at_rest"], {"kinetic_energy_ratio", "duration"});
+      RestCriterion r;
+      if (rest.has("kinetic_energy_ratio")) {
+        const Item ratio = rest["kinetic_energy_ratio"];
+        r.kinetic_energy_ratio = number(ratio);
+        if (!(r.kinetic_energy_ratio > 0 && r.kinetic_energy_ratio < 1))
+          fail(ratio, "must be in the open interval (0, 1) (got " + ratio.node.Scalar() + ")");
+      }
+      if (rest.has("duration"))
+        r.duration = positive(rest["duration"]);
+      s.at_rest = r;
+    }
+    out.push_back(std::move(s));
+  }
+  if (out.empty())
+    fail(it, "'stages' lists no stage");
+  return out;
 }
 
 TimeSpec Validator::time(const Item& it) const {
@@ -1114,7 +1204,8 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
                                   {"F", OutputField::DeformationGradient},
                                   {"stress", OutputField::Stress},
                                   {"material", OutputField::Material},
-                                  {"plastic_strain", OutputField::PlasticStrain}});
+                                  {"plastic_strain", OutputField::PlasticStrain},
+                                  {"reference_position", OutputField::ReferencePosition}});
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
         fail(f, "field '" + f.node.Scalar() + "' is listed twice");
       if (field == OutputField::PlasticStrain && !any_plastic)
@@ -1162,7 +1253,7 @@ std::vector<ProbeSpec> Validator::probes(const Item& it) const {
   return out;
 }
 
-SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
+SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
   const Map m(*this, it, solver_keys());
   SolverSpec s;
   if (m.has("shape"))
@@ -1201,7 +1292,7 @@ SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
   }
   if (m.has("ghost_penalty")) {
     const Item gp = m["ghost_penalty"];
-    if (analysis == AnalysisType::Explicit)
+    if (!any_implicit_stage(spec))
       fail(m.key("ghost_penalty"), "'ghost_penalty' stabilises the implicit grid solve; an "
                                    "explicit analysis has no tangent to stabilise");
     s.ghost_penalty = number(gp);
@@ -1209,9 +1300,10 @@ SolverSpec Validator::solver(const Item& it, AnalysisType analysis) const {
       fail(gp, "must be in [0, 1) (got " + gp.node.Scalar() + ")");
   }
   if (m.has("f_bar")) {
-    if (analysis == AnalysisType::Explicit)
+    if (const std::string stage = explicit_stage(spec); !stage.empty())
       fail(m.key("f_bar"), "'f_bar' averages the volume change of the implicit grid solve; "
-                           "explicit analyses do not support it");
+                           "explicit analyses do not support it, and " +
+                               stage + " is explicit");
     s.f_bar = boolean(m["f_bar"]);
   }
   if (m.has("transfer")) {
@@ -1232,15 +1324,13 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
   s.where = locate(m.self());
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
   // no such criterion.
+  if (!spec.stages.empty())
+    fail(m.self(), "strength reduction runs its own quasi-static trials from scratch; it cannot "
+                   "be combined with 'stages'");
   if (spec.analysis != AnalysisType::ImplicitQuasistatic)
     fail(m.self(), "strength reduction loads the case quasi-statically; it needs 'analysis: "
                    "implicit_quasistatic'");
-  const bool reducible =
-      std::any_of(spec.materials.begin(), spec.materials.end(), [](const MaterialSpec& mat) {
-        return mat.model == MaterialModel::Tresca || mat.model == MaterialModel::MohrCoulomb ||
-               mat.model == MaterialModel::DruckerPrager;
-      });
-  if (!reducible)
+  if (!has_reducible_material(spec.materials))
     fail(m.self(), "strength reduction divides cohesion and tan(friction_angle); the case has "
                    "no tresca, mohr_coulomb or drucker_prager material");
   if (m.has("lower"))
@@ -1278,10 +1368,10 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   const Map top(*this, top_item,
                 {"name", "analysis", "dimension", "grid", "materials", "bodies", "gravity",
                  "boundaries", "point_loads", "tractions", "prescribed", "time", "output", "probes",
-                 "solver", "strength_reduction"});
+                 "solver", "strength_reduction", "stages"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
-  if (top.has("analysis"))
+  if (top.has("analysis") && !top.present("stages"))
     spec.analysis = analysis(top["analysis"]);
   if (top.has("dimension"))
     spec.dimension = dimension(top["dimension"]);
@@ -1290,6 +1380,20 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.has("gravity"))
     spec.gravity = vec2(top["gravity"]);
   spec.bodies = bodies(top.required("bodies"), spec);
+  if (top.present("stages")) {
+    for (const char* key : {"analysis", "time"})
+      if (top.has(key))
+        fail(top.key(key), std::string("with 'stages', each stage gives its own analysis and "
+                                       "time; remove the top-level '") +
+                               key + "'");
+    spec.stages = stages(top["stages"], spec);
+    spec.analysis = spec.stages.front().analysis;
+    spec.time = spec.stages.front().time;
+  } else {
+    const Item time_item = top.required("time");
+    spec.time = time(time_item);
+    check_time_step(time_item, spec.analysis, spec.time, spec);
+  }
   if (top.present("boundaries"))
     spec.boundaries = boundaries(top["boundaries"]);
   if (top.present("point_loads"))
@@ -1298,7 +1402,6 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.tractions = tractions(top["tractions"], spec);
   if (top.present("prescribed"))
     spec.prescribed = prescribed(top["prescribed"], spec);
-  spec.time = time(top.required("time"));
   const bool any_plastic = std::any_of(spec.materials.begin(), spec.materials.end(),
                                        [](const MaterialSpec& m) { return is_plastic(m.model); });
   spec.output =
@@ -1306,7 +1409,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.present("probes"))
     spec.probes = probes(top["probes"]);
   if (top.present("solver"))
-    spec.solver = solver(top["solver"], spec.analysis);
+    spec.solver = solver(top["solver"], spec);
   if (top.present("solver") && !spec.solver.linear_solver.empty()) {
     LinearSolverOptions options;
     parse_linear_solver_kind(spec.solver.linear_solver, options.kind);
@@ -1324,13 +1427,6 @@ CaseSpec Validator::read(const YAML::Node& root) const {
           refuse("material '" + material.name + "' has non-associated flow or softening");
     }
   }
-  if (spec.analysis != AnalysisType::Explicit && spec.time.cfl) {
-    const Map time_map(*this, top["time"], {"end_time", "cfl", "dt", "max_steps", "min_dt"});
-    fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
-                          "needs 'dt', its initial load step");
-  }
-  if (spec.analysis == AnalysisType::Explicit && spec.time.dt)
-    check_explicit_time_step(top, spec);
   if (top.present("strength_reduction"))
     spec.strength_reduction = strength_reduction(top["strength_reduction"], spec);
   return spec;

@@ -270,6 +270,14 @@ inline constexpr DatasetInfo kPlasticStrain{
     "accumulated equivalent plastic shear strain kappa = sum sqrt(2/3) |dev d eps^p| of the "
     "converged state; 0 for points of elastic materials",
     "Scalar"};
+inline constexpr DatasetInfo kReferencePosition{
+    "reference_position",
+    2,
+    false,
+    "m",
+    "particle position in the reference configuration (its voxel's centre at t = 0; a split "
+    "point's share of its parent's voxel): position - reference_position is the displacement",
+    "Vector"};
 
 // Post-processing datasets (output.stress_recovery, output.voxels).
 inline constexpr DatasetInfo kStressSmoothed{
@@ -337,6 +345,8 @@ inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& f
   }
   if (has(OutputField::PlasticStrain))
     out.push_back(kPlasticStrain);
+  if (has(OutputField::ReferencePosition))
+    out.push_back(kReferencePosition);
   return out;
 }
 

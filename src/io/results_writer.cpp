@@ -266,6 +266,8 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
       check_size(p.material.size(), n, "material");
     else if (name == "body")
       check_size(p.body.size(), n, "body");
+    else if (name == "reference_position")
+      check_size(p.x0.size(), n, "x0");
   }
   if (post.stress)
     check_size(post.stress->smoothed_stress.size(), n, "smoothed stress");
@@ -310,8 +312,8 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
       }
       std::vector<double> buf;
       buf.reserve(un * static_cast<std::size_t>(std::max(d.columns, 1)));
-      if (name == "position" || name == "velocity") {
-        const auto& src = name == "position" ? p.x : p.v;
+      if (name == "position" || name == "velocity" || name == "reference_position") {
+        const auto& src = name == "position" ? p.x : name == "velocity" ? p.v : p.x0;
         for (std::size_t i = 0; i < un; ++i) {
           buf.push_back(src[i][0]);
           buf.push_back(src[i][1]);

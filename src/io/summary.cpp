@@ -29,6 +29,15 @@ void write_summary_json(const std::filesystem::path& file, const RunSummary& s) 
                                   "' would replace a standard field");
     j[key] = value;
   }
+  for (const StageSummary& stage : s.stages)
+    j["stages"].push_back({{"name", stage.name},
+                           {"analysis", stage.analysis},
+                           {"strength_factor", stage.strength_factor},
+                           {"start_time", stage.start_time},
+                           {"end_time", stage.end_time},
+                           {"steps", stage.steps},
+                           {"wall_seconds", stage.wall_seconds},
+                           {"end", stage.end}});
   // Non-finite numbers have no JSON spelling; nlohmann writes them as null.
   const std::string text = j.dump(2) + "\n";
 

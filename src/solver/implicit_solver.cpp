@@ -35,7 +35,8 @@ template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, N
   using M = Mat<Dim>;
 
 public:
-  explicit ImplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
+  ImplicitSolverImpl(Scene<Dim>& scene, double prescribed_fraction_reached)
+      : scene_(scene), ramp_committed_(prescribed_fraction_reached) {
     double modulus = 0;
     for (const auto& m : scene.materials) {
       modulus = std::max(modulus, m->lame().p_wave_modulus());
@@ -66,7 +67,8 @@ public:
           return b.initial_stress &&
                  b.initial_stress->kind == BodySpec::InitialStress::Kind::Geostatic;
         });
-    if (dynamic_)
+    // A dynamic stage after another dynamic stage continues from its Newmark acceleration.
+    if (dynamic_ && scene.particles.acceleration.size() != np)
       scene.particles.acceleration.assign(np, V::Zero());
     response_.resize(np);
     for (auto& r : reactions_)
@@ -90,17 +92,21 @@ public:
       report.converged = true;
       report.residual_history.push_back(0.0);
     } else {
-      // Plain Newton first: from a stress-free or strongly rotating state the first full step
-      // can raise the residual (a bent beam's linearised step stretches its fibres) and a
-      // monotone line search then crawls. Only if plain Newton fails is the step repeated
-      // with KINSOL's line search, before the stepper cuts the load step back.
-      options.line_search = false;
+      // Plain Newton or KINSOL's line search, whichever converged the last step, then the
+      // other before the stepper cuts the load step back. Plain Newton starts: from a
+      // stress-free or strongly rotating state the first full step can raise the residual (a
+      // bent beam's linearised step stretches its fibres) and a monotone line search then
+      // crawls. Once plain Newton has failed (a slide, a yielding corner) the next steps start
+      // with the line search rather than spend the iteration limit on a diverging attempt.
+      const bool line_search_first = line_search_first_;
+      options.line_search = line_search_first;
       report = solve_newton(*this, *linear_, du, options);
       if (!report.converged) {
-        options.line_search = true;
+        options.line_search = !line_search_first;
         du.setZero();
         NewtonReport retry = solve_newton(*this, *linear_, du, options);
         retry.abandoned_history = report.residual_history;
+        retry.abandoned_line_search = line_search_first;
         retry.iterations += report.iterations;
         retry.linear_solves += report.linear_solves;
         retry.factorizations += report.factorizations;
@@ -108,6 +114,8 @@ public:
         retry.seconds_factorization += report.seconds_factorization;
         retry.seconds_solve += report.seconds_solve;
         report = std::move(retry);
+        if (report.converged)
+          line_search_first_ = !line_search_first;
       }
     }
     if (report.converged) {
@@ -704,6 +712,7 @@ private:
     if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
       throw NumericalError("material update failed at the converged increment");
     auto& P = scene_.particles;
+    const double flip = scene_.spec.solver.flip;
     // Reactions: the internal force that the constrained components carry beyond the loads.
     std::vector<double> internal(full_external_.size(), 0.0);
     for (Index p = 0; p < P.size(); ++p) {
@@ -725,19 +734,26 @@ private:
       P.volume[s] = J * P.volume0[s];
       P.x[s] += dx;
       if (dynamic_) {
-        // FLIP-style increments of the Newmark grid velocity, acceleration from the grid.
-        V dv = V::Zero(), a = V::Zero();
+        // FLIP increments of the Newmark grid velocity, blended with its PIC interpolation by
+        // solver.flip (PIC damps the particle velocity noise that the grid cannot see);
+        // acceleration from the grid. A constrained component moves with its prescribed
+        // increment (zero on a fixed face).
+        V dv = V::Zero(), v_grid = V::Zero(), a = V::Zero();
         map_.for_each_node_of(p, [&](Index n, double w, const V&) {
           for (int c = 0; c < Dim; ++c) {
             const Index dof = dof_of(n, c);
-            if (dof < 0)
+            if (dof < 0) {
+              v_grid[c] += w * prescribed_du_[at(2 * n + c)] / dt;
               continue;
+            }
             const double a_new = newmark_acceleration(dof, du[dof]);
             a[c] += w * a_new;
-            dv[c] += w * 0.5 * dt * (grid_a_[at(dof)] + a_new);
+            const double dv_node = 0.5 * dt * (grid_a_[at(dof)] + a_new);
+            dv[c] += w * dv_node;
+            v_grid[c] += w * (grid_v_[at(dof)] + dv_node);
           }
         });
-        P.v[s] += dv;
+        P.v[s] = flip * (P.v[s] + dv) + (1.0 - flip) * v_grid;
         P.acceleration[s] = a;
       } else {
         P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
@@ -803,6 +819,7 @@ private:
   bool gravity_ramped_ = true;        ///< gravity follows the load factor (no geostatic stress)
   std::vector<double> prescribed_du_; ///< per (node, component): this step's increment
   double ramp_committed_ = 0;         ///< prescribed-displacement fraction reached so far
+  bool line_search_first_ = false;    ///< the last step converged with the line search
   std::vector<Vec2> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
@@ -820,8 +837,10 @@ private:
 
 } // namespace
 
-std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene) {
-  return make_for_shape<ImplicitSolver, ImplicitSolverImpl>(scene.spec.solver.shape, scene);
+std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene,
+                                                     double prescribed_fraction_reached) {
+  return make_for_shape<ImplicitSolver, ImplicitSolverImpl>(scene.spec.solver.shape, scene,
+                                                            prescribed_fraction_reached);
 }
 
 } // namespace talus

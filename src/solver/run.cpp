@@ -5,11 +5,13 @@
 #include "talus/core/splitting.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
+#include "talus/material/plastic_material.hpp"
 #include "talus/post/stress_recovery.hpp"
 #include "talus/post/voxels.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/state_guard.hpp"
+#include "talus/solver/strength_reduction.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -63,6 +65,8 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
   std::vector<std::string> cols = {
       "time",           "step",         "dt",         "kinetic_energy", "strain_energy",
       "gravity_energy", "total_energy", "momentum_x", "momentum_y",     "particles"};
+  if (!scene.spec.stages.empty())
+    cols.push_back("stage"); // 1, 2, ... in the order of the case's stages
   for (int f = 0; f < kFaceCount; ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       cols.push_back(fmt::format("reaction_{}_x", face_name(f)));
@@ -81,7 +85,7 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
 std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
                                    const std::array<Vec2, kFaceCount>& reactions,
                                    const std::vector<Vec2>& prescribed, double time, Index step,
-                                   double dt) {
+                                   double dt, std::size_t stage) {
   std::vector<double> row = {time,
                              static_cast<double>(step),
                              dt,
@@ -92,6 +96,8 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
                              e.momentum.x(),
                              e.momentum.y(),
                              static_cast<double>(scene.particles.size())};
+  if (!scene.spec.stages.empty())
+    row.push_back(static_cast<double>(stage + 1));
   for (int f = 0; f < kFaceCount; ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       row.push_back(reactions[static_cast<std::size_t>(f)].x());
@@ -113,13 +119,17 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
 
 // What both analyses share while stepping: frames on the output schedule, time-series rows,
 // progress, and the interrupt flag.
+// Times are the stage's own (from 0 at its start); frames and rows are written at the run's
+// time, the stage's start time plus the stage's time.
 struct Recorder {
   const Scene<2>& scene;
   ResultsWriter& writer;
   TimeSeriesWriter& series;
-  Progress& progress;
-  double frame_interval;
-  double next_frame_time;
+  Progress* progress = nullptr; ///< the current stage's progress line
+  double frame_interval = 0;
+  double next_frame_time = 0;
+  double stage_start_time = 0;
+  std::size_t stage = 0; ///< index into the run's stages
   bool frame_at_current_step = true;
   Index last_frame_step = 0;
   double last_frame_time = 0;
@@ -152,10 +162,26 @@ struct Recorder {
         scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
       post.plastic_strain = &plastic_strain;
     }
-    writer.write_frame(step, t, scene.particles, out.fields, post);
+    writer.write_frame(step, stage_start_time + t, scene.particles, out.fields, post);
     frame_at_current_step = true;
     last_frame_step = step;
-    last_frame_time = t;
+    last_frame_time = stage_start_time + t;
+  }
+
+  void begin_stage(std::size_t index, Progress& stage_progress, double interval,
+                   double start_time) {
+    stage = index;
+    progress = &stage_progress;
+    frame_interval = interval;
+    next_frame_time = interval;
+    stage_start_time = start_time;
+  }
+
+  /// The time-series row of the current state at the stage's time t.
+  void append_row(const Energies& e, const std::array<Vec2, kFaceCount>& reactions,
+                  const std::vector<Vec2>& prescribed, double t, Index step, double dt) {
+    series.append(
+        timeseries_row(scene, e, reactions, prescribed, stage_start_time + t, step, dt, stage));
   }
 
   /// Stops the run (StateGuardError) when the guard found something; `when` says at which
@@ -176,7 +202,7 @@ struct Recorder {
   void after_step(Index step, double t, double dt, const Energies& e,
                   const std::array<Vec2, kFaceCount>& reactions,
                   const std::vector<Vec2>& prescribed, const std::string& extra) {
-    series.append(timeseries_row(scene, e, reactions, prescribed, t, step, dt));
+    append_row(e, reactions, prescribed, t, step, dt);
     const OutputSpec& out = scene.spec.output;
     frame_at_current_step = false;
     const bool due =
@@ -186,7 +212,7 @@ struct Recorder {
       while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
         next_frame_time += frame_interval;
     }
-    progress.update(step, t, dt, extra);
+    progress->update(step, t, dt, extra);
   }
   /// Makes sure the state the run ends in is a frame.
   void final_frame(Index step, double t) {
@@ -196,12 +222,13 @@ struct Recorder {
 };
 
 struct LoopState {
-  double t = 0;
-  Index step = 0;
+  double t = 0;               ///< the stage's time
+  Index step = 0;             ///< steps of the whole run
+  Index stage_first_step = 0; ///< `step` when the current stage began
 };
 
 void check_limits(const TimeSpec& time, const LoopState& s) {
-  if (s.step >= time.max_steps)
+  if (s.step - s.stage_first_step >= time.max_steps)
     throw NumericalError(fmt::format("reached max_steps = {} at t = {:g} before end_time = "
                                      "{:g}; raise time.max_steps or the time step",
                                      time.max_steps, s.t, time.end_time));
@@ -210,6 +237,101 @@ void check_limits(const TimeSpec& time, const LoopState& s) {
 // Time steps shorter than this fraction of the nominal step are absorbed into the previous
 // one, so round-off never produces a sliver step at an output time or the end.
 constexpr double kSliver = 1e-9;
+
+/// Watches a stage for the ends other than its end time and failure: the body has come to rest
+/// (the stage's `at_rest`), or the stage has used up its wall-clock allowance. Rest is judged by
+/// the kinetic energy of the points' motion over each step, sum 1/2 m |dx / dt|^2: unlike the
+/// particle velocities, which carry FLIP's grid-invisible noise, it sees only motion that moves
+/// material.
+class StageWatch {
+public:
+  explicit StageWatch(const StageSpec& stage)
+      : stage_(stage), started_(std::chrono::steady_clock::now()) {}
+
+  /// Before each step (attempt): remembers the positions, if the stage watches for rest.
+  void before_step(const Particles<2>& P) {
+    if (stage_.at_rest)
+      x_before_.assign(P.x.begin(), P.x.end());
+  }
+
+  /// After each completed step of length dt, before points split: whether the stage ends now;
+  /// reason() then says why.
+  bool ends_after_step(const Particles<2>& P, double t, double dt) {
+    if (stage_.at_rest) {
+      double kinetic_energy = 0;
+      for (std::size_t p = 0; p < x_before_.size(); ++p)
+        kinetic_energy += 0.5 * P.mass[p] * (P.x[p] - x_before_[p]).squaredNorm() / (dt * dt);
+      peak_kinetic_ = std::max(peak_kinetic_, kinetic_energy);
+      if (kinetic_energy <= stage_.at_rest->kinetic_energy_ratio * peak_kinetic_) {
+        if (!quiet_since_)
+          quiet_since_ = t;
+        if (t - *quiet_since_ >= stage_.at_rest->duration * (1.0 - 1e-12)) {
+          reason_ = fmt::format("at rest: kinetic energy at most {:g} of its peak {:.4g} J since "
+                                "stage time {:g} s (held {:g} s)",
+                                stage_.at_rest->kinetic_energy_ratio, peak_kinetic_, *quiet_since_,
+                                t - *quiet_since_);
+          return true;
+        }
+      } else {
+        quiet_since_.reset();
+      }
+    }
+    if (stage_.wall_time_limit) {
+      const double used =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+      if (used > *stage_.wall_time_limit) {
+        reason_ = fmt::format("wall-time limit: {:.1f} s used of the stage's {:g} s at stage "
+                              "time {:g} s",
+                              used, *stage_.wall_time_limit, t);
+        out_of_time_ = true;
+        return true;
+      }
+    }
+    return false;
+  }
+  const std::string& reason() const { return reason_; }
+  /// The stage stopped on its wall-time limit (the run stops too).
+  bool out_of_time() const { return out_of_time_; }
+
+private:
+  const StageSpec& stage_;
+  std::chrono::steady_clock::time_point started_;
+  double peak_kinetic_ = 0;
+  std::optional<double> quiet_since_{};
+  std::vector<Vec2> x_before_{};
+  std::string reason_{};
+  bool out_of_time_ = false;
+};
+
+/// The strength of the frictional materials during a stage: c / F, tan(phi) / F with F moving
+/// from the previous stage's factor to the stage's own over a quasi-static stage, or set at
+/// the start of a dynamic one. The materials keep their history; only the return map changes.
+class StageStrength {
+public:
+  StageStrength(Scene<2>& scene, const CaseSpec& case_spec, double start, double end)
+      : scene_(scene), case_spec_(case_spec), start_(start), end_(end) {}
+
+  /// Sets the factor for a step that ends at the fraction `progress` of the stage.
+  void at(double progress) {
+    const double factor = scene_.spec.analysis == AnalysisType::ImplicitQuasistatic
+                              ? start_ + (end_ - start_) * progress
+                              : end_;
+    if (factor == applied_)
+      return;
+    const CaseSpec reduced = reduce_strength(case_spec_, factor);
+    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+      if (auto* plastic = dynamic_cast<PlasticMaterial*>(scene_.materials[m].get()))
+        plastic->replace_model(make_plastic_model(reduced.materials[m]));
+    applied_ = factor;
+  }
+  double factor() const { return applied_; }
+
+private:
+  Scene<2>& scene_;
+  const CaseSpec& case_spec_; ///< the case as written, full strength
+  double start_, end_;
+  double applied_ = 1.0; ///< the materials are built at full strength
+};
 
 /// Splits the points that meet their body's criterion after a completed step (a converged one
 /// in the implicit analyses), so every step starts from a consistent set of points.
@@ -222,10 +344,12 @@ template <class Solver> void split_after_step(Scene<2>& scene, Solver& solver, R
 }
 
 /// Explicit dynamics: CFL or fixed steps until end_time.
-void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result) {
+void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
+                  StageWatch& watch) {
   auto solver = make_explicit_solver(scene);
   const TimeSpec& time = scene.spec.time;
-  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(), {}, 0, 0, 0));
+  if (s.step == 0)
+    rec.append_row(solver->energies(), solver->reactions(), {}, 0, 0, 0);
   while (s.t < time.end_time * (1.0 - 1e-14)) {
     check_limits(time, s);
     if (g_interrupted)
@@ -249,6 +373,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       rec.stop_if_violated(solver->grid_violation(), at_end);
       rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
     };
+    watch.before_step(scene.particles);
     try {
       solver->step(dt);
     } catch (const NumericalError&) {
@@ -260,11 +385,14 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     guard();
     s.t = t_end;
     ++s.step;
+    const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
     split_after_step(scene, *solver, result);
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
       throw NumericalError("non-finite energy");
     rec.after_step(s.step, s.t, dt, e, solver->reactions(), {}, {});
+    if (stage_ends)
+      break;
   }
   rec.final_frame(s.step, s.t);
   result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
@@ -273,36 +401,46 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
 /// Implicit analyses: steps cut back (halved) when Newton fails and
 /// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
 /// residual history goes to newton.log. A failure at the minimum step ends the run after
-/// writing the last converged state as a frame.
+/// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
+/// the stage's pseudo-time (the first stage); otherwise they act in full.
 void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
-                  const fs::path& out_dir) {
-  auto solver = make_implicit_solver(scene);
+                  const fs::path& out_dir, StageWatch& watch, StageStrength& strength,
+                  bool loads_ramp) {
+  auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
   result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
   const double dt0 = *time.dt;
   const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
   double dt = dt0;
   int easy_steps = 0;
-  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), "w");
+  // One log for the run: the first stage creates it, later stages append.
+  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), s.step == 0 ? "w" : "a");
   if (!log)
     throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
-  std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
+  if (s.step == 0)
+    std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
+  if (!scene.spec.stages.empty())
+    std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
+                 scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
   double assembly = 0, factorization = 0, solve = 0;
   Index newton_iterations = 0, linear_solves = 0, cutbacks = 0, max_iterations = 0;
-  rec.series.append(timeseries_row(scene, solver->energies(), solver->reactions(),
-                                   solver->prescribed_reactions(), 0, 0, 0));
+  if (s.step == 0)
+    rec.append_row(solver->energies(), solver->reactions(), solver->prescribed_reactions(), 0, 0,
+                   0);
   auto record_totals = [&] {
-    result.extra["load_steps"] = static_cast<double>(s.step);
-    result.extra["newton_iterations"] = static_cast<double>(newton_iterations);
-    result.extra["newton_iterations_max_per_step"] = static_cast<double>(max_iterations);
-    result.extra["linear_solves"] = static_cast<double>(linear_solves);
-    result.extra["cutbacks"] = static_cast<double>(cutbacks);
-    result.extra["seconds_assembly"] = assembly;
-    result.extra["seconds_factorization"] = factorization;
-    result.extra["seconds_solve"] = solve;
-    result.extra["seconds_particle_update"] = solver->seconds_particle_update();
-    result.extra["unknowns_last_step"] = static_cast<double>(solver->unknowns());
+    auto& x = result.extra;
+    x["load_steps"] += static_cast<double>(s.step - s.stage_first_step);
+    x["newton_iterations"] += static_cast<double>(newton_iterations);
+    x["newton_iterations_max_per_step"] =
+        std::max(x["newton_iterations_max_per_step"], static_cast<double>(max_iterations));
+    x["linear_solves"] += static_cast<double>(linear_solves);
+    x["cutbacks"] += static_cast<double>(cutbacks);
+    x["seconds_assembly"] += assembly;
+    x["seconds_factorization"] += factorization;
+    x["seconds_solve"] += solve;
+    x["seconds_particle_update"] += solver->seconds_particle_update();
+    x["unknowns_last_step"] = static_cast<double>(solver->unknowns());
   };
   try {
     while (s.t < time.end_time * (1.0 - 1e-14)) {
@@ -314,22 +452,25 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       if (s.t + step_dt * (1.0 + kSliver) >= target)
         step_dt = target - s.t;
       const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
-      // Quasi-static loads ramp with the pseudo-time; dynamic loads act in full from t = 0.
-      const double load_factor =
-          scene.spec.analysis == AnalysisType::ImplicitDynamic ? 1.0 : t_end / time.end_time;
-      const NewtonReport r = solver->step(load_factor, t_end / time.end_time, step_dt);
+      // Quasi-static loads ramp with the first stage's pseudo-time; dynamic loads act in full
+      // from t = 0, and after the first stage every load does.
+      const bool dynamic = scene.spec.analysis == AnalysisType::ImplicitDynamic;
+      const double ramp = loads_ramp ? t_end / time.end_time : 1.0;
+      strength.at(t_end / time.end_time);
+      watch.before_step(scene.particles);
+      const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
       assembly += r.seconds_assembly;
       factorization += r.seconds_factorization;
       solve += r.seconds_solve;
       newton_iterations += r.iterations;
       linear_solves += r.linear_solves;
-      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1), t_end,
-                   step_dt, r.converged ? "yes" : "no", r.iterations);
+      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1),
+                   rec.stage_start_time + t_end, step_dt, r.converged ? "yes" : "no", r.iterations);
       if (!r.abandoned_history.empty()) {
-        std::fprintf(log, " [plain Newton:");
+        std::fprintf(log, " [%s:", r.abandoned_line_search ? "line search" : "plain Newton");
         for (double v : r.abandoned_history)
           std::fprintf(log, " %.3e", v);
-        std::fprintf(log, "; line search:]");
+        std::fprintf(log, "; %s:]", r.abandoned_line_search ? "plain Newton" : "line search");
       }
       for (double v : r.residual_history)
         std::fprintf(log, " %.3e", v);
@@ -340,8 +481,12 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
         easy_steps = 0;
         if (step_dt <= min_dt * (1.0 + 1e-12))
           throw NumericalError(fmt::format(
-              "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}): {}",
-              step_dt, s.t, t_end, r.message));
+              "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}{}): "
+              "{}",
+              step_dt, s.t, t_end,
+              strength.factor() != 1.0 ? fmt::format(", strength factor {:.6g}", strength.factor())
+                                       : "",
+              r.message));
         dt = std::max(0.5 * step_dt, min_dt);
         continue;
       }
@@ -350,6 +495,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       max_iterations = std::max<Index>(max_iterations, r.iterations);
       s.t = t_end;
       ++s.step;
+      const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
       split_after_step(scene, *solver, result);
       if (r.iterations <= 4 && ++easy_steps >= 2) {
         dt = std::min(2.0 * dt, dt0);
@@ -359,6 +505,8 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       }
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
                      solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
+      if (stage_ends)
+        break;
     }
   } catch (const StateGuardError&) {
     record_totals();
@@ -370,6 +518,36 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
   }
   record_totals();
   rec.final_frame(s.step, s.t);
+}
+
+/// The stages a run goes through: the case's, or one made of its analysis and time.
+std::vector<StageSpec> stages_of(const CaseSpec& spec) {
+  if (!spec.stages.empty())
+    return spec.stages;
+  StageSpec only;
+  only.analysis = spec.analysis;
+  only.time = spec.time;
+  return {only};
+}
+
+/// A quasi-static stage leaves the points in equilibrium with a pseudo-rate as velocity: a
+/// dynamic stage after it starts them at rest, with no Newmark acceleration yet.
+void start_at_rest(Particles<2>& P) {
+  std::fill(P.v.begin(), P.v.end(), Vec2::Zero());
+  std::fill(P.affine_velocity.begin(), P.affine_velocity.end(), Mat2::Zero());
+  P.acceleration.clear();
+}
+
+const char* analysis_name(AnalysisType a) {
+  switch (a) {
+  case AnalysisType::Explicit:
+    return "explicit";
+  case AnalysisType::ImplicitQuasistatic:
+    return "implicit_quasistatic";
+  case AnalysisType::ImplicitDynamic:
+    return "implicit_dynamic";
+  }
+  return "?";
 }
 
 } // namespace
@@ -411,17 +589,14 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   ResultsWriter writer(result.out_dir, metadata_of(scene));
   TimeSeriesWriter series(result.out_dir / "timeseries.csv", timeseries_columns(scene));
 
-  const TimeSpec& time = spec.time;
   const OutputSpec& out = spec.output;
-  const double frame_interval =
-      out.every_time ? *out.every_time : (out.every_steps ? 0.0 : time.end_time / 20.0);
-
   g_interrupted = false;
   auto previous_sigint = std::signal(SIGINT, on_interrupt);
   auto previous_sigterm = std::signal(SIGTERM, on_interrupt);
 
-  Progress progress(spec.name, time.end_time, options.progress);
-  Recorder recorder{scene, writer, series, progress, frame_interval, frame_interval};
+  const std::vector<StageSpec> stages = stages_of(spec);
+  const bool staged = !spec.stages.empty();
+  Recorder recorder{scene, writer, series};
   LoopState state;
   result.status = "completed";
   result.particles = scene.particles.size();
@@ -430,21 +605,84 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     result.extra["splits"] = 0.0;
   }
   recorder.write_frame(0, 0.0);
+  double stage_start_time = 0;
+  double strength_factor = 1.0;
+  std::optional<StageSummary> current;
+  // Closes the stage record with why the stage ended.
+  auto end_stage = [&](const std::string& why, const auto& stage_started) {
+    current->end_time = stage_start_time + state.t;
+    current->steps = state.step - state.stage_first_step;
+    current->strength_factor = strength_factor;
+    current->wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_started).count();
+    current->end = why;
+    result.stages.push_back(*current);
+    current.reset();
+  };
+  auto stage_started = std::chrono::steady_clock::now();
   try {
-    if (spec.analysis == AnalysisType::Explicit)
-      run_explicit(scene, recorder, state, result);
-    else
-      run_implicit(scene, recorder, state, result, result.out_dir);
+    for (std::size_t k = 0; k < stages.size() && !g_interrupted; ++k) {
+      const StageSpec& stage = stages[k];
+      if (k > 0 && stages[k - 1].analysis == AnalysisType::ImplicitQuasistatic &&
+          stage.analysis != AnalysisType::ImplicitQuasistatic)
+        start_at_rest(scene.particles);
+      scene.spec.analysis = stage.analysis;
+      scene.spec.time = stage.time;
+      state.t = 0;
+      state.stage_first_step = state.step;
+      stage_started = std::chrono::steady_clock::now();
+      current = StageSummary{};
+      current->name = stage.name;
+      current->analysis = analysis_name(stage.analysis);
+      current->start_time = stage_start_time;
+      Progress progress(staged ? fmt::format("{} [{}]", spec.name, stage.name) : spec.name,
+                        stage.time.end_time, options.progress);
+      recorder.begin_stage(k, progress,
+                           out.every_time ? *out.every_time
+                                          : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
+                           stage_start_time);
+      StageWatch watch(stage);
+      StageStrength strength(scene, spec, strength_factor, stage.strength_factor);
+      if (stage.analysis == AnalysisType::Explicit) {
+        strength.at(1.0);
+        run_explicit(scene, recorder, state, result, watch);
+      } else {
+        run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
+      }
+      strength_factor = strength.factor();
+      if (g_interrupted)
+        recorder.final_frame(state.step, state.t);
+      const std::string why = g_interrupted            ? "interrupted"
+                              : watch.reason().empty() ? "end_time reached"
+                                                       : watch.reason();
+      if (staged)
+        progress.finish("stage ended: " + why);
+      end_stage(why, stage_started);
+      stage_start_time += state.t;
+      state.t = 0;
+      if (watch.out_of_time()) {
+        result.status = "interrupted";
+        result.message = fmt::format("stage '{}' stopped: {}", stage.name, why);
+        result.exit_code = kExitOther;
+        break;
+      }
+    }
     if (g_interrupted) {
-      recorder.final_frame(state.step, state.t);
       result.status = "interrupted";
-      result.message = fmt::format("interrupted at step {}, t = {:g}", state.step, state.t);
+      result.message =
+          fmt::format("interrupted at step {}, t = {:g}", state.step, stage_start_time + state.t);
       result.exit_code = kExitOther;
     }
   } catch (const NumericalError& err) {
     result.status = "numerical_failure";
-    result.message = fmt::format("step {}, t = {:g}: {}", state.step + 1, state.t, err.what());
+    result.message =
+        fmt::format("step {}, t = {:g}{}: {}", state.step + 1, stage_start_time + state.t,
+                    staged ? fmt::format(" (stage '{}')", current->name) : "", err.what());
     result.exit_code = kExitNumerical;
+    if (current)
+      end_stage(fmt::format("failed: {}", err.what()), stage_started);
+    stage_start_time += state.t;
+    state.t = 0;
   }
   if (out.stress_recovery || out.voxels)
     result.extra["seconds_post_processing"] = recorder.post_seconds;
@@ -456,14 +694,15 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   std::signal(SIGTERM, previous_sigterm);
 
   result.steps = state.step;
-  result.final_time = state.t;
+  result.final_time = stage_start_time + state.t;
   result.frames = writer.frames_written();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  progress.finish(result.status == "completed"
-                      ? fmt::format("done: {} steps, {} frames, {:.2f} s", state.step,
-                                    result.frames, result.wall_seconds)
-                      : result.status + ": " + result.message);
+  Progress(spec.name, 0, options.progress)
+      .finish(result.status == "completed"
+                  ? fmt::format("done: {} steps, {} frames, {:.2f} s", state.step, result.frames,
+                                result.wall_seconds)
+                  : result.status + ": " + result.message);
 
   RunSummary summary;
   summary.case_name = spec.name;
@@ -476,6 +715,8 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   summary.wall_seconds = result.wall_seconds;
   summary.linear_solver = result.linear_solver;
   summary.extra = result.extra;
+  if (staged)
+    summary.stages = result.stages;
   write_summary_json(result.out_dir / "summary.json", summary);
   return result;
 }

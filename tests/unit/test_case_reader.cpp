@@ -563,7 +563,8 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
   expect_error(
       with(kCase, "[velocity, F, stress]", "[velocity, f, stress]"),
       {"case.yaml", 52, 22, "output.fields[1]",
-       "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material, plastic_strain)"});
+       "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material, plastic_strain, "
+       "reference_position)"});
 }
 
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {

@@ -183,7 +183,8 @@ enum class OutputField {
   DeformationGradient,
   Stress,
   Material,
-  PlasticStrain
+  PlasticStrain,
+  ReferencePosition ///< x0, the position in the reference configuration (displacement x - x0)
 };
 
 struct OutputSpec {
@@ -246,6 +247,30 @@ struct StrengthReductionSpec {
   SourceLocation where;
 };
 
+/// A stage ends early, "at rest", once the kinetic energy has stayed at or below
+/// `kinetic_energy_ratio` times the largest kinetic energy of the stage for `duration` seconds
+/// (a slide that has stopped; elastic ringing far below the slide's energy does not count).
+struct RestCriterion {
+  double kinetic_energy_ratio = 1e-3; ///< -, in (0, 1)
+  double duration = 1.0;              ///< s, > 0
+};
+
+/// One stage of a staged analysis (`stages:`): the state (positions, stress, F, plastic
+/// history) carries over from the stage before; the analysis, time stepping and strength may
+/// change. Loads reach their full value in the first stage and keep it afterwards.
+struct StageSpec {
+  std::string name;
+  AnalysisType analysis = AnalysisType::ImplicitQuasistatic;
+  TimeSpec time;
+  /// Strength factor F at the end of the stage: c / F, tan(phi) / F (reduce_strength). A
+  /// quasi-static stage moves it linearly from the previous stage's factor (1 before the
+  /// first); a dynamic stage applies it at its first step.
+  double strength_factor = 1.0;
+  std::optional<double> wall_time_limit; ///< s; the run stops (interrupted) past it
+  std::optional<RestCriterion> at_rest;  ///< dynamic stages: end once the body is at rest
+  SourceLocation where;
+};
+
 struct CaseSpec {
   std::string name;                   ///< required; default output dir results/<name>
   std::string source_file;            ///< path the case was read from
@@ -266,6 +291,9 @@ struct CaseSpec {
   std::vector<ProbeSpec> probes;
   SolverSpec solver;
   std::optional<StrengthReductionSpec> strength_reduction; ///< `talus fos` only
+  /// Staged analysis; empty: one stage of `analysis` over `time`. When given, `analysis` and
+  /// `time` above are the first stage's.
+  std::vector<StageSpec> stages;
 };
 
 } // namespace talus

@@ -111,6 +111,17 @@ private:
 
 /// Writes summary.json atomically (temporary file + rename). Values are already JSON-encoded
 /// by the caller through the helpers below, keeping this header free of a JSON library.
+/// How one stage of a staged run went (summary.json "stages").
+struct StageSummary {
+  std::string name;
+  std::string analysis;
+  double strength_factor = 1;          ///< at the stage's end
+  double start_time = 0, end_time = 0; ///< s, run time
+  Index steps = 0;                     ///< steps the stage took
+  double wall_seconds = 0;
+  std::string end; ///< why it ended: end_time, at rest, limit, failure
+};
+
 struct RunSummary {
   std::string case_name;
   std::string status; ///< "completed", "numerical_failure", "interrupted"
@@ -122,6 +133,7 @@ struct RunSummary {
   double wall_seconds = 0;
   std::string linear_solver; ///< implicit runs: the linear solver backend used; empty: omitted
   std::map<std::string, double> extra; ///< further numbers (later solvers add timings)
+  std::vector<StageSummary> stages;    ///< staged runs only; empty: omitted
 };
 void write_summary_json(const std::filesystem::path& file, const RunSummary& summary);
 

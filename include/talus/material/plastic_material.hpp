@@ -35,6 +35,10 @@ public:
   void append_copies(Index old_count, std::span<const Index> sources) override;
 
   const PlasticModel& model() const { return *model_; }
+  /// Swaps the return map for one of the same material with another strength (a stage's
+  /// strength factor). The history is kept: the next evaluation returns a stress that lies
+  /// outside the new surface onto it.
+  void replace_model(std::unique_ptr<PlasticModel> model) { model_ = std::move(model); }
   /// The return the last evaluation took at point p (elastic, surface, edge, apex).
   ReturnType last_return(Index p) const { return trial_return_[static_cast<std::size_t>(p)]; }
 

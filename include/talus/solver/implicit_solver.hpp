@@ -80,6 +80,9 @@ public:
                               SparseAssembler* tangent) = 0;
 };
 
-std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene);
+/// `prescribed_fraction_reached`: the fraction of the prescribed displacements already applied
+/// (a later stage of a staged analysis starts at 1: the regions hold their final position).
+std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene,
+                                                     double prescribed_fraction_reached = 0.0);
 
 } // namespace talus

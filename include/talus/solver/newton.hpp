@@ -45,10 +45,11 @@ struct NewtonReport {
   int symbolic_analyses = 0;
   /// max_i |R_i| / residual_scale at each Newton iterate, the converged one last.
   std::vector<double> residual_history;
-  /// The history of an abandoned first attempt (plain Newton) when the caller retried the
-  /// step with a line search; empty otherwise.
+  /// The history of an abandoned first attempt when the caller retried the step the other
+  /// way (plain Newton and line search); empty otherwise.
   std::vector<double> abandoned_history;
-  std::string message; ///< KINSOL's reason when not converged
+  bool abandoned_line_search = false; ///< the abandoned attempt was the line search
+  std::string message;                ///< KINSOL's reason when not converged
   double seconds_assembly = 0, seconds_factorization = 0, seconds_solve = 0, seconds_residual = 0;
 };
 

@@ -3,6 +3,7 @@
 // timeseries.csv rows and summary.json, and shows progress. Bad input surfaces as InputError
 // before anything is written; numerical failure ends the run with the earlier frames intact.
 #include "talus/io/case_spec.hpp"
+#include "talus/io/results.hpp"
 
 #include <filesystem>
 #include <functional>
@@ -36,6 +37,7 @@ struct RunResult {
   int exit_code = 0;         ///< 0, 1 (interrupted) or 3 (numerical failure)
   std::string linear_solver; ///< implicit: the backend used (chosen or automatic); else empty
   std::map<std::string, double> extra; ///< solver statistics, also written to summary.json
+  std::vector<StageSummary> stages;    ///< staged cases: each stage that ran, and why it ended
 };
 
 /// Checks that `dir` may receive results (absent, empty, or `force`); throws InputError. With
