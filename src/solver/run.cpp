@@ -10,6 +10,7 @@
 #include "talus/post/voxels.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
+#include "talus/solver/stage_watch.hpp"
 #include "talus/solver/state_guard.hpp"
 #include "talus/solver/strength_reduction.hpp"
 
@@ -237,71 +238,6 @@ void check_limits(const TimeSpec& time, const LoopState& s) {
 // Time steps shorter than this fraction of the nominal step are absorbed into the previous
 // one, so round-off never produces a sliver step at an output time or the end.
 constexpr double kSliver = 1e-9;
-
-/// Watches a stage for the ends other than its end time and failure: the body has come to rest
-/// (the stage's `at_rest`), or the stage has used up its wall-clock allowance. Rest is judged by
-/// the kinetic energy of the points' motion over each step, sum 1/2 m |dx / dt|^2: unlike the
-/// particle velocities, which carry FLIP's grid-invisible noise, it sees only motion that moves
-/// material.
-class StageWatch {
-public:
-  explicit StageWatch(const StageSpec& stage)
-      : stage_(stage), started_(std::chrono::steady_clock::now()) {}
-
-  /// Before each step (attempt): remembers the positions, if the stage watches for rest.
-  void before_step(const Particles<2>& P) {
-    if (stage_.at_rest)
-      x_before_.assign(P.x.begin(), P.x.end());
-  }
-
-  /// After each completed step of length dt, before points split: whether the stage ends now;
-  /// reason() then says why.
-  bool ends_after_step(const Particles<2>& P, double t, double dt) {
-    if (stage_.at_rest) {
-      double kinetic_energy = 0;
-      for (std::size_t p = 0; p < x_before_.size(); ++p)
-        kinetic_energy += 0.5 * P.mass[p] * (P.x[p] - x_before_[p]).squaredNorm() / (dt * dt);
-      peak_kinetic_ = std::max(peak_kinetic_, kinetic_energy);
-      if (kinetic_energy <= stage_.at_rest->kinetic_energy_ratio * peak_kinetic_) {
-        if (!quiet_since_)
-          quiet_since_ = t;
-        if (t - *quiet_since_ >= stage_.at_rest->duration * (1.0 - 1e-12)) {
-          reason_ = fmt::format("at rest: kinetic energy at most {:g} of its peak {:.4g} J since "
-                                "stage time {:g} s (held {:g} s)",
-                                stage_.at_rest->kinetic_energy_ratio, peak_kinetic_, *quiet_since_,
-                                t - *quiet_since_);
-          return true;
-        }
-      } else {
-        quiet_since_.reset();
-      }
-    }
-    if (stage_.wall_time_limit) {
-      const double used =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-      if (used > *stage_.wall_time_limit) {
-        reason_ = fmt::format("wall-time limit: {:.1f} s used of the stage's {:g} s at stage "
-                              "time {:g} s",
-                              used, *stage_.wall_time_limit, t);
-        out_of_time_ = true;
-        return true;
-      }
-    }
-    return false;
-  }
-  const std::string& reason() const { return reason_; }
-  /// The stage stopped on its wall-time limit (the run stops too).
-  bool out_of_time() const { return out_of_time_; }
-
-private:
-  const StageSpec& stage_;
-  std::chrono::steady_clock::time_point started_;
-  double peak_kinetic_ = 0;
-  std::optional<double> quiet_since_{};
-  std::vector<Vec2> x_before_{};
-  std::string reason_{};
-  bool out_of_time_ = false;
-};
 
 /// The strength of the frictional materials during a stage: c / F, tan(phi) / F with F moving
 /// from the previous stage's factor to the stage's own over a quasi-static stage, or set at

@@ -1,0 +1,46 @@
+#pragma once
+// The ends of a stage (StageSpec) other than its end time and failure: the body has come to
+// rest (`at_rest`), or the stage has used up its wall-clock allowance (`wall_time_limit`).
+//
+// Rest is judged by the kinetic energy of the points' motion over each step,
+//   E_motion = sum_p 1/2 m_p |x_p^{n+1} - x_p^n|^2 / dt^2,
+// not by the particle velocities: FLIP carries velocity noise that maps to nothing on the grid,
+// moves no material and never decays, so a stopped slide could keep its particle kinetic energy
+// forever. The stage is at rest once E_motion has stayed at or below `kinetic_energy_ratio`
+// times its largest value in the stage for `duration` seconds of the stage's time.
+#include "talus/core/particles.hpp"
+#include "talus/io/case_spec.hpp"
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+class StageWatch {
+public:
+  explicit StageWatch(const StageSpec& stage);
+
+  /// Before each step (attempt): remembers the positions, if the stage watches for rest.
+  void before_step(const Particles<2>& P);
+
+  /// After each completed step of length dt ending at the stage time t, before any point is
+  /// split: whether the stage ends now; reason() then says why.
+  bool ends_after_step(const Particles<2>& P, double t, double dt);
+
+  const std::string& reason() const { return reason_; }
+  /// The stage stopped on its wall-time limit (the run stops too).
+  bool out_of_time() const { return out_of_time_; }
+
+private:
+  const StageSpec& stage_;
+  std::chrono::steady_clock::time_point started_;
+  double peak_kinetic_ = 0;
+  std::optional<double> quiet_since_{};
+  std::vector<Vec2> x_before_{};
+  std::string reason_{};
+  bool out_of_time_ = false;
+};
+
+} // namespace talus

@@ -1,0 +1,50 @@
+#include "talus/solver/stage_watch.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+namespace talus {
+
+StageWatch::StageWatch(const StageSpec& stage)
+    : stage_(stage), started_(std::chrono::steady_clock::now()) {}
+
+void StageWatch::before_step(const Particles<2>& P) {
+  if (stage_.at_rest)
+    x_before_.assign(P.x.begin(), P.x.end());
+}
+
+bool StageWatch::ends_after_step(const Particles<2>& P, double t, double dt) {
+  if (stage_.at_rest) {
+    double kinetic_energy = 0;
+    for (std::size_t p = 0; p < x_before_.size(); ++p)
+      kinetic_energy += 0.5 * P.mass[p] * (P.x[p] - x_before_[p]).squaredNorm() / (dt * dt);
+    peak_kinetic_ = std::max(peak_kinetic_, kinetic_energy);
+    if (kinetic_energy <= stage_.at_rest->kinetic_energy_ratio * peak_kinetic_) {
+      if (!quiet_since_)
+        quiet_since_ = t;
+      if (t - *quiet_since_ >= stage_.at_rest->duration * (1.0 - 1e-12)) {
+        reason_ = fmt::format("at rest: kinetic energy at most {:g} of its peak {:.4g} J/m since "
+                              "stage time {:g} s (held {:g} s)",
+                              stage_.at_rest->kinetic_energy_ratio, peak_kinetic_, *quiet_since_,
+                              t - *quiet_since_);
+        return true;
+      }
+    } else {
+      quiet_since_.reset();
+    }
+  }
+  if (stage_.wall_time_limit) {
+    const double used =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    if (used > *stage_.wall_time_limit) {
+      reason_ = fmt::format("wall-time limit: {:.1f} s used of the stage's {:g} s at stage time "
+                            "{:g} s",
+                            used, *stage_.wall_time_limit, t);
+      out_of_time_ = true;
+      return true;
+    }
+  }
+  return false;
+}
+
+} // namespace talus
