@@ -244,8 +244,10 @@ constexpr double kSliver = 1e-9;
 /// the start of a dynamic one. The materials keep their history; only the return map changes.
 class StageStrength {
 public:
-  StageStrength(Scene<2>& scene, const CaseSpec& case_spec, double start, double end)
-      : scene_(scene), case_spec_(case_spec), start_(start), end_(end) {}
+  /// `applied`: the factor the materials have now (the previous stage's), kept up to date as
+  /// the factor changes (the caller's record outlives a failed stage); `end`: the stage's.
+  StageStrength(Scene<2>& scene, const CaseSpec& case_spec, double& applied, double end)
+      : scene_(scene), case_spec_(case_spec), start_(applied), end_(end), applied_(applied) {}
 
   /// Sets the factor for a step that ends at the fraction `progress` of the stage.
   void at(double progress) {
@@ -266,7 +268,7 @@ private:
   Scene<2>& scene_;
   const CaseSpec& case_spec_; ///< the case as written, full strength
   double start_, end_;
-  double applied_ = 1.0; ///< the materials are built at full strength
+  double& applied_; ///< the factor the materials' return maps have
 };
 
 /// Splits the points that meet their body's criterion after a completed step (a converged one
@@ -578,14 +580,15 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
                                           : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
                            stage_start_time);
       StageWatch watch(stage);
-      StageStrength strength(scene, spec, strength_factor, stage.strength_factor);
+      StageStrength strength(scene, spec, strength_factor,
+                             stage.strength_factor.value_or(strength_factor));
+      // From here on strength_factor follows the factor the materials have.
       if (stage.analysis == AnalysisType::Explicit) {
         strength.at(1.0);
         run_explicit(scene, recorder, state, result, watch);
       } else {
         run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
       }
-      strength_factor = strength.factor();
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);
       const std::string why = g_interrupted            ? "interrupted"

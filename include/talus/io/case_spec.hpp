@@ -264,8 +264,8 @@ struct StageSpec {
   TimeSpec time;
   /// Strength factor F at the end of the stage: c / F, tan(phi) / F (reduce_strength). A
   /// quasi-static stage moves it linearly from the previous stage's factor (1 before the
-  /// first); a dynamic stage applies it at its first step.
-  double strength_factor = 1.0;
+  /// first); a dynamic stage applies it at its first step. Absent: the previous stage's.
+  std::optional<double> strength_factor;
   std::optional<double> wall_time_limit; ///< s; the run stops (interrupted) past it
   std::optional<RestCriterion> at_rest;  ///< dynamic stages: end once the body is at rest
   SourceLocation where;
