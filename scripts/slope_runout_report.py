@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The slope run-out report (issue 7): runs cases/slope_runout.yaml (the Griffiths & Lane
-slope: gravity at full strength, then implicit dynamics with c and tan(phi) divided by 2, with
+slope: gravity at full strength, then implicit dynamics with c and tan(phi) divided by F, with
 material-point splitting, until the slide comes to rest) and writes report.md with plots and
 renders into the output folder.
 
@@ -214,14 +214,16 @@ def write_report(m, out, renders):
     st = m["stages"]
     s = m["summary"]
     slide = st[1]
+    factor = slide["strength_factor"]
+    phi = np.degrees(np.arctan(np.tan(np.radians(20.0)) / factor))
     lines = [
-        "# Slope run-out: Griffiths & Lane slope, strength divided by 2",
+        f"# Slope run-out: Griffiths & Lane slope, strength divided by {factor:g}",
         "",
-        f"Case `{CASE}`, written by `scripts/slope_runout_report.py`. "
-        "Gravity is ramped on quasi-statically at full strength "
-        "(c' = 10 kPa, phi' = 20 deg; factor of safety 1.4), then the strength is divided by 2 "
-        "(c = 5 kPa, phi = 10.3 deg) and the slope is followed with implicit dynamics (Newmark, "
-        "F-bar, FLIP 0.95) and material-point splitting until it comes to rest.",
+        f"Case `{CASE}`, written by `scripts/slope_runout_report.py`. Gravity is ramped on "
+        "quasi-statically at full strength (c' = 10 kPa, phi' = 20 deg; factor of safety 1.4), "
+        f"then the strength is divided by F = {factor:g} (c = {10 / factor:.2f} kPa, "
+        f"phi = {phi:.1f} deg) and the slope is followed with implicit dynamics (Newmark, F-bar, "
+        "FLIP 0.95) and material-point splitting until it comes to rest.",
         "",
         "## Stages",
         "",

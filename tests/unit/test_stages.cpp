@@ -184,60 +184,43 @@ TEST_F(StagedRuns, AWallTimeLimitStopsTheRunAndSaysSo) {
 
 // --- StageWatch: the at-rest criterion on a prescribed motion ----------------------------------
 
-StageSpec resting_stage(double ratio, double duration) {
+// One point of 2 kg moving at speeds[k] during step k (dt = 0.1 s), so its motion energy is
+// speeds[k]^2, watched for rest with ratio 1e-2 and duration 0.5 s. Returns the stage time at
+// which the watch ended the stage (-1 if it did not) and its reason.
+std::pair<double, std::string> rest_time(const std::vector<double>& speeds) {
   StageSpec stage;
   stage.name = "slide";
   stage.analysis = AnalysisType::ImplicitDynamic;
-  stage.at_rest = RestCriterion{ratio, duration};
-  return stage;
-}
-
-// One point of 2 kg moved by `speed * dt` per step: its motion energy is speed^2.
-bool step_with_speed(StageWatch& watch, Particles<2>& P, double speed, double t, double dt) {
-  watch.before_step(P);
-  P.x[0].x() += speed * dt;
-  return watch.ends_after_step(P, t, dt);
+  stage.at_rest = RestCriterion{1e-2, 0.5};
+  StageWatch watch(stage);
+  Particles<2> P;
+  P.x = {Vec2(0, 0)};
+  P.mass = {2.0};
+  const double dt = 0.1;
+  for (std::size_t k = 0; k < speeds.size(); ++k) {
+    const double t = dt * static_cast<double>(k + 1);
+    watch.before_step(P);
+    P.x[0].x() += speeds[k] * dt;
+    if (watch.ends_after_step(P, t, dt)) {
+      EXPECT_FALSE(watch.out_of_time());
+      return {t, watch.reason()};
+    }
+  }
+  return {-1.0, ""};
 }
 
 TEST(StageWatch, EndsOnceTheMotionStaysQuietForTheDuration) {
-  const StageSpec stage = resting_stage(1e-2, 0.5);
-  StageWatch watch(stage);
-  Particles<2> P;
-  P.x = {Vec2(0, 0)};
-  P.mass = {2.0};
-  const double dt = 0.1;
   // Speeds 1, 3 (peak: energy 9), then 0.2 (energy 0.04 <= 0.09): quiet from t = 0.3 on.
-  const std::vector<double> speeds = {1, 3, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
-  bool ended = false;
-  double t = 0;
-  for (std::size_t k = 0; k < speeds.size() && !ended; ++k) {
-    t = dt * static_cast<double>(k + 1);
-    ended = step_with_speed(watch, P, speeds[k], t, dt);
-  }
-  EXPECT_TRUE(ended);
+  const auto [t, reason] = rest_time({1, 3, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2});
   EXPECT_NEAR(t, 0.8, 1e-12) << "quiet from 0.3, held 0.5 s";
-  EXPECT_EQ(watch.reason().rfind("at rest", 0), 0u) << watch.reason();
-  EXPECT_FALSE(watch.out_of_time());
+  EXPECT_EQ(reason.rfind("at rest", 0), 0u) << reason;
 }
 
 TEST(StageWatch, MotionAboveTheRatioRestartsTheQuietPeriod) {
-  const StageSpec stage = resting_stage(1e-2, 0.5);
-  StageWatch watch(stage);
-  Particles<2> P;
-  P.x = {Vec2(0, 0)};
-  P.mass = {2.0};
-  const double dt = 0.1;
   // Peak 9, quiet at 0.3 and 0.4, a lurch (speed 0.5, energy 0.25 > 0.09) at 0.5, quiet again
   // from 0.6: the stage ends at 0.6 + 0.5 = 1.1, not at 0.8.
-  const std::vector<double> speeds = {1, 3, 0.2, 0.2, 0.5, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
-  bool ended = false;
-  double t = 0;
-  for (std::size_t k = 0; k < speeds.size() && !ended; ++k) {
-    t = dt * static_cast<double>(k + 1);
-    ended = step_with_speed(watch, P, speeds[k], t, dt);
-  }
-  EXPECT_TRUE(ended);
-  EXPECT_NEAR(t, 1.1, 1e-12);
+  const auto [t, reason] = rest_time({1, 3, 0.2, 0.2, 0.5, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2});
+  EXPECT_NEAR(t, 1.1, 1e-12) << reason;
 }
 
 // --- input errors ------------------------------------------------------------------------------
