@@ -226,6 +226,9 @@ struct LoopState {
   double t = 0;               ///< the stage's time
   Index step = 0;             ///< steps of the whole run
   Index stage_first_step = 0; ///< `step` when the current stage began
+  /// RunOptions::stop_after_step, and what it said when it ended the run.
+  std::function<std::optional<std::string>(const Scene<2>&, double)> stop_after_step{};
+  std::optional<std::string> stopped{};
 };
 
 void check_limits(const TimeSpec& time, const LoopState& s) {
@@ -324,12 +327,14 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     s.t = t_end;
     ++s.step;
     const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
+    if (s.stop_after_step)
+      s.stopped = s.stop_after_step(scene, rec.stage_start_time + s.t);
     split_after_step(scene, *solver, result);
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
       throw NumericalError("non-finite energy");
     rec.after_step(s.step, s.t, dt, e, solver->reactions(), {}, {});
-    if (stage_ends)
+    if (stage_ends || s.stopped)
       break;
   }
   rec.final_frame(s.step, s.t);
@@ -434,6 +439,8 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       s.t = t_end;
       ++s.step;
       const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
+      if (s.stop_after_step)
+        s.stopped = s.stop_after_step(scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);
       if (r.iterations <= 4 && ++easy_steps >= 2) {
         dt = std::min(2.0 * dt, dt0);
@@ -443,7 +450,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       }
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
                      solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
-      if (stage_ends)
+      if (stage_ends || s.stopped)
         break;
     }
   } catch (const StateGuardError&) {
@@ -536,6 +543,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   const bool staged = !spec.stages.empty();
   Recorder recorder{scene, writer, series};
   LoopState state;
+  state.stop_after_step = options.stop_after_step;
   result.status = "completed";
   result.particles = scene.particles.size();
   if (splitting_requested(spec)) {
@@ -592,6 +600,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);
       const std::string why = g_interrupted            ? "interrupted"
+                              : state.stopped          ? *state.stopped
                               : watch.reason().empty() ? "end_time reached"
                                                        : watch.reason();
       if (staged)
@@ -602,6 +611,12 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
       if (watch.out_of_time()) {
         result.status = "interrupted";
         result.message = fmt::format("stage '{}' stopped: {}", stage.name, why);
+        result.exit_code = kExitOther;
+        break;
+      }
+      if (state.stopped) {
+        result.status = "stopped";
+        result.message = *state.stopped;
         result.exit_code = kExitOther;
         break;
       }

@@ -1,6 +1,7 @@
 #include "talus/solver/strength_reduction.hpp"
 
 #include "talus/core/errors.hpp"
+#include "talus/core/scene.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/post/python_script.hpp"
 #include "talus/solver/run.hpp"
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 
 namespace talus {
 
@@ -41,61 +43,52 @@ std::string quoted(const std::string& text) {
   return out + "\"";
 }
 
+/// The crest criterion as a run's stop_after_step: the probe's displacement from its initial
+/// position beyond the limit ends the trial at that load step.
+std::function<std::optional<std::string>(const Scene<2>&, double)>
+crest_limit_stop(const StrengthReductionSpec& settings, double end_time) {
+  return [&settings, end_time](const Scene<2>& scene, double time) -> std::optional<std::string> {
+    const auto name = std::find(scene.probe_names.begin(), scene.probe_names.end(), settings.probe);
+    const auto p = static_cast<std::size_t>(
+        scene.probe_particles[static_cast<std::size_t>(name - scene.probe_names.begin())]);
+    const double moved = (scene.particles.x[p] - scene.particles.x0[p]).norm();
+    if (moved <= *settings.displacement_limit)
+      return std::nullopt;
+    return fmt::format("crest moved {:.4g} m > limit {:g} m at load {:.4g}", moved,
+                       *settings.displacement_limit, time / end_time);
+  };
+}
+
 /// One trial: the case with reduced strength, run quietly into `dir`; what it ended with.
 StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir, int threads,
                         bool& interrupted) {
   const StrengthReductionSpec& settings = *spec.strength_reduction;
-  StrengthTrial trial;
-  trial.factor = factor;
   const auto start = std::chrono::steady_clock::now();
   RunOptions options;
   options.out_dir = dir;
   options.threads = threads;
   options.progress = false;
+  if (settings.displacement_limit)
+    options.stop_after_step = crest_limit_stop(settings, spec.time.end_time);
   RunResult run;
   try {
     run = run_case(reduce_strength(spec, factor), options);
   } catch (const InputError& e) {
     // The reduced strength refused the initial stress: the slope cannot even start.
+    StrengthTrial trial;
+    trial.factor = factor;
     trial.failed = true;
     trial.reason = fmt::format("failed before the first step: {}", e.what());
     trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return trial;
   }
-  trial.seconds = run.wall_seconds;
-  trial.load_reached = run.final_time / spec.time.end_time;
-  trial.load_steps = run.steps;
-  auto stat = [&](const char* key) {
-    const auto it = run.extra.find(key);
-    return it == run.extra.end() ? Index{0} : static_cast<Index>(it->second);
-  };
-  trial.newton_iterations = stat("newton_iterations");
-  trial.cutbacks = stat("cutbacks");
+  if (run.status == "interrupted")
+    interrupted = true;
   const CsvTable series = read_csv(dir / "timeseries.csv");
   const auto& x = series.column(settings.probe + ".x");
   const auto& y = series.column(settings.probe + ".y");
-  trial.crest_dx = x.back() - x.front();
-  trial.crest_dy = y.back() - y.front();
-  const double moved = trial.crest_displacement();
-  if (run.status == "interrupted") {
-    interrupted = true;
-    trial.failed = true;
-    trial.reason = "interrupted";
-  } else if (run.exit_code != 0) {
-    trial.failed = true;
-    trial.reason = fmt::format("failed at {:.1f} % of the load (crest moved {:.4g} m): {}",
-                               100.0 * trial.load_reached, moved, run.message);
-  } else if (settings.displacement_limit && moved > *settings.displacement_limit) {
-    trial.failed = true;
-    trial.reason = fmt::format("failed: converged, but the crest moved {:.4g} m, beyond the "
-                               "displacement limit {:g} m",
-                               moved, *settings.displacement_limit);
-  } else {
-    trial.reason = fmt::format("stood: full load in {} steps, {} Newton iterations, {} "
-                               "cut-backs; crest moved {:.4g} m",
-                               run.steps, trial.newton_iterations, trial.cutbacks, moved);
-  }
-  return trial;
+  return classify_trial(settings, factor, run, spec.time.end_time, x.back() - x.front(),
+                        y.back() - y.front());
 }
 
 void write_fos_csv(const fs::path& file, const FactorOfSafety& fos) {
@@ -129,6 +122,48 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
 
 double StrengthTrial::crest_displacement() const {
   return std::hypot(crest_dx, crest_dy);
+}
+
+StrengthTrial classify_trial(const StrengthReductionSpec& settings, double factor,
+                             const RunResult& run, double end_time, double crest_dx,
+                             double crest_dy) {
+  StrengthTrial trial;
+  trial.factor = factor;
+  trial.seconds = run.wall_seconds;
+  trial.load_reached = run.final_time / end_time;
+  trial.load_steps = run.steps;
+  auto stat = [&](const char* key) {
+    const auto it = run.extra.find(key);
+    return it == run.extra.end() ? Index{0} : static_cast<Index>(it->second);
+  };
+  trial.newton_iterations = stat("newton_iterations");
+  trial.cutbacks = stat("cutbacks");
+  trial.crest_dx = crest_dx;
+  trial.crest_dy = crest_dy;
+  const double moved = trial.crest_displacement();
+  if (run.status == "interrupted") {
+    trial.failed = true;
+    trial.reason = "interrupted";
+  } else if (run.status == "stopped") { // the crest limit, during the loading
+    trial.failed = true;
+    trial.reason = fmt::format("failed: {} ({} steps, {} Newton iterations, {} cut-backs)",
+                               run.message, run.steps, trial.newton_iterations, trial.cutbacks);
+  } else if (run.exit_code != 0) {
+    trial.failed = true;
+    trial.reason = fmt::format("failed at {:.1f} % of the load (crest moved {:.4g} m): {}",
+                               100.0 * trial.load_reached, moved, run.message);
+  } else if (settings.displacement_limit && moved > *settings.displacement_limit) {
+    // A run without the stop: the crest limit judged on the final state.
+    trial.failed = true;
+    trial.reason = fmt::format("failed: converged, but the crest moved {:.4g} m, beyond the "
+                               "displacement limit {:g} m",
+                               moved, *settings.displacement_limit);
+  } else {
+    trial.reason = fmt::format("stood: full load in {} steps, {} Newton iterations, {} "
+                               "cut-backs; crest moved {:.4g} m",
+                               run.steps, trial.newton_iterations, trial.cutbacks, moved);
+  }
+  return trial;
 }
 
 CaseSpec reduce_strength(const CaseSpec& spec, double factor) {
@@ -216,7 +251,8 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
                      "Newton does not converge at the smallest load step{}\n",
                      spec.name,
                      spec.strength_reduction->displacement_limit
-                         ? fmt::format(" or the crest moves more than {:g} m",
+                         ? fmt::format(" or the crest moves more than {:g} m (checked after "
+                                       "every converged load step; the trial stops there)",
                                        *spec.strength_reduction->displacement_limit)
                          : std::string());
   bool interrupted = false;

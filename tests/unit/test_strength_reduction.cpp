@@ -1,17 +1,28 @@
 // Strength reduction (talus fos): the case section, the weakened materials, the bisection with a
-// fake trial whose critical factor is known, and one small search end to end.
+// fake trial whose critical factor is known, how a trial's run is classified, the run hook that
+// stops a trial whose crest has slid (RunOptions::stop_after_step), and small searches end to
+// end.
 #include "talus/core/errors.hpp"
+#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/io/csv.hpp"
+#include "talus/io/results.hpp"
+#include "talus/solver/run.hpp"
 #include "talus/solver/strength_reduction.hpp"
+#include "temporary_directory.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using namespace talus;
@@ -64,6 +75,42 @@ StrengthTrial fake_trial(double factor, double critical) {
   t.reason = t.failed ? "failed" : "stood";
   return t;
 }
+
+// An elastic block on the grid's base under its own weight: a few cheap steps.
+const std::string kBlock = R"(name: block
+analysis: implicit_quasistatic
+grid: {origin: [0, 0], extent: [1, 3], cell_size: 0.25}
+materials:
+  - {name: soil, model: linear_elastic, density: 2000, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+bodies:
+  - {name: block, material: soil, shape: rectangle, min: [0, 0], max: [1, 2]}
+gravity: [0, -9.81]
+boundaries: {y_min: fixed}
+time: {end_time: 1, dt: 0.25}
+output: {every_steps: 1}
+)";
+
+nlohmann::json read_json(const fs::path& file) {
+  return nlohmann::json::parse(std::ifstream(file));
+}
+
+/// What run_case would return for a trial that ended at `time` (of `end_time`) with `status`:
+/// 8 steps for the full load, 3 Newton iterations a step, one cut-back.
+RunResult fake_run(double end_time, double time, const std::string& status,
+                   const std::string& message) {
+  RunResult run;
+  run.status = status;
+  run.message = message;
+  run.exit_code = status == "completed" ? 0 : status == "numerical_failure" ? 3 : 1;
+  run.final_time = time;
+  run.steps = static_cast<Index>(std::lround(time / end_time * 8));
+  run.extra["newton_iterations"] = 3.0 * static_cast<double>(run.steps);
+  run.extra["cutbacks"] = 1;
+  run.wall_seconds = 0.5;
+  return run;
+}
+
+class StopAfterStep : public talus::test_support::TemporaryDirectoryTest {};
 
 } // namespace
 
@@ -210,4 +257,168 @@ TEST(StrengthReduction, SearchWritesItsFilesAndKeepsEarlierResults) {
   options.force = true;
   EXPECT_EQ(run_factor_of_safety(spec, options).fos.trials.size(), r.fos.trials.size());
   fs::remove_all(dir);
+}
+
+// Each way a trial's run can end, as the search counts it.
+TEST(StrengthReduction, ClassifiesATrialByHowItsRunEnded) {
+  StrengthReductionSpec settings;
+  settings.probe = "crest";
+  // Completed with the crest inside the limit, or without a limit: stood.
+  settings.displacement_limit = 0.5;
+  StrengthTrial t = classify_trial(settings, 1.3, fake_run(1, 1, "completed", ""), 1, 0.03, -0.04);
+  EXPECT_FALSE(t.failed) << t.reason;
+  EXPECT_DOUBLE_EQ(t.factor, 1.3);
+  EXPECT_DOUBLE_EQ(t.crest_displacement(), 0.05);
+  EXPECT_DOUBLE_EQ(t.load_reached, 1.0);
+  EXPECT_EQ(t.load_steps, 8);
+  EXPECT_EQ(t.newton_iterations, 24);
+  EXPECT_EQ(t.cutbacks, 1);
+  EXPECT_NE(t.reason.find("stood: full load in 8 steps"), std::string::npos) << t.reason;
+  // Completed, but the crest beyond the limit (a run the limit did not stop): failed.
+  t = classify_trial(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8);
+  EXPECT_TRUE(t.failed);
+  EXPECT_NE(t.reason.find("crest moved 1 m, beyond the displacement limit 0.5 m"),
+            std::string::npos)
+      << t.reason;
+  settings.displacement_limit.reset();
+  EXPECT_FALSE(classify_trial(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8).failed);
+  // Stopped by the crest limit during the loading: failed, with the hook's message and the load
+  // it reached (end_time 2: the load is t / end_time).
+  settings.displacement_limit = 0.5;
+  t = classify_trial(settings, 1.45,
+                     fake_run(2, 1.25, "stopped", "crest moved 0.61 m > limit 0.5 m at load 0.625"),
+                     2, 0.4, -0.46);
+  EXPECT_TRUE(t.failed);
+  EXPECT_DOUBLE_EQ(t.load_reached, 0.625);
+  EXPECT_EQ(t.reason, "failed: crest moved 0.61 m > limit 0.5 m at load 0.625 (5 steps, 15 "
+                      "Newton iterations, 1 cut-backs)");
+  // Newton at min_dt (or max_steps, the state guard): failed at the load reached.
+  t = classify_trial(settings, 1.6,
+                     fake_run(1, 0.75, "numerical_failure", "Newton did not converge"), 1, 0.1, 0);
+  EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.reason, "failed at 75.0 % of the load (crest moved 0.1 m): Newton did not converge");
+  // Interrupted: failed, and said so (the search then stops).
+  t = classify_trial(settings, 1.6, fake_run(1, 0.5, "interrupted", "interrupted"), 1, 0, 0);
+  EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.reason, "interrupted");
+}
+
+// The hook ends an implicit run after the step it objects to: status "stopped" with its
+// message, that step's row and frame written, the earlier frames intact.
+TEST_F(StopAfterStep, EndsAnImplicitRunAfterTheStepWithItsMessage) {
+  const CaseSpec spec = read_case_text(kBlock, "case.yaml");
+  RunOptions options;
+  options.out_dir = root_ / "run";
+  options.progress = false;
+  std::vector<double> seen;
+  options.stop_after_step = [&](const Scene<2>& scene, double time) -> std::optional<std::string> {
+    EXPECT_EQ(scene.spec.name, "block");
+    seen.push_back(time);
+    if (time < 0.5)
+      return std::nullopt;
+    return "enough at t = " + std::to_string(time);
+  };
+  const RunResult r = run_case(spec, options);
+  EXPECT_EQ(r.status, "stopped");
+  EXPECT_EQ(r.message, "enough at t = 0.500000");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.steps, 2);
+  EXPECT_DOUBLE_EQ(r.final_time, 0.5);
+  EXPECT_EQ(seen, (std::vector<double>{0.25, 0.5})); // after each converged step, then no more
+  ResultsReader results(options.out_dir / "run.h5");
+  ASSERT_EQ(results.frame_count(), 3); // t = 0, 0.25, 0.5
+  EXPECT_EQ(r.frames, 3);
+  for (Index f = 0; f < 3; ++f) {
+    EXPECT_DOUBLE_EQ(results.frame_time(f), 0.25 * static_cast<double>(f));
+    EXPECT_EQ(results.frame_step(f), f);
+  }
+  const CsvTable series = read_csv(options.out_dir / "timeseries.csv");
+  EXPECT_EQ(series.rows(), 3u);
+  EXPECT_DOUBLE_EQ(series.column("time").back(), 0.5);
+  const nlohmann::json summary = read_json(options.out_dir / "summary.json");
+  EXPECT_EQ(summary.at("status"), "stopped");
+  EXPECT_EQ(summary.at("message"), "enough at t = 0.500000");
+  EXPECT_EQ(summary.at("steps").get<Index>(), 2);
+  // A hook that never objects leaves the run as it was.
+  options.out_dir = root_ / "through";
+  options.stop_after_step = [](const Scene<2>&, double) { return std::optional<std::string>{}; };
+  const RunResult through = run_case(spec, options);
+  EXPECT_EQ(through.status, "completed") << through.message;
+  EXPECT_EQ(through.steps, 4);
+  EXPECT_EQ(through.exit_code, 0);
+}
+
+// The same in the explicit loop.
+TEST_F(StopAfterStep, EndsAnExplicitRunAfterTheStep) {
+  const CaseSpec spec = read_case_text(kBlock, "case.yaml",
+                                       {"analysis=explicit", "time={end_time: 1.0e-2, cfl: 0.5}"});
+  RunOptions options;
+  options.out_dir = root_ / "run";
+  options.progress = false;
+  int calls = 0;
+  double stopped_at = 0;
+  options.stop_after_step = [&](const Scene<2>&, double time) -> std::optional<std::string> {
+    if (++calls < 3)
+      return std::nullopt;
+    stopped_at = time;
+    return std::string("third step");
+  };
+  const RunResult r = run_case(spec, options);
+  EXPECT_EQ(r.status, "stopped");
+  EXPECT_EQ(r.message, "third step");
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(r.steps, 3);
+  EXPECT_GT(stopped_at, 0.0);
+  EXPECT_LT(stopped_at, 1.0e-2);
+  EXPECT_DOUBLE_EQ(r.final_time, stopped_at);
+  ResultsReader results(options.out_dir / "run.h5");
+  ASSERT_EQ(results.frame_count(), 4);
+  EXPECT_DOUBLE_EQ(results.frame_time(0), 0.0);
+  EXPECT_DOUBLE_EQ(results.frame_time(3), stopped_at);
+  EXPECT_EQ(read_json(options.out_dir / "summary.json").at("status"), "stopped");
+}
+
+// With a displacement limit, a trial whose crest slides past it stops at that load step: its
+// log line says how far the crest moved and at which load, and its files end there.
+// (The coarse slope's crest moves 0.007 m at F = 1 and 0.05 to 0.09 m where Newton gives up at
+// F >= 2.125: a limit of 0.03 m stops F = 4 and 2.5 part-way through their load.)
+TEST_F(StopAfterStep, ACrestBeyondTheLimitStopsTheTrialDuringItsLoading) {
+  const CaseSpec spec = read_case_text(
+      with(kSlope, "probe: crest}", "probe: crest, displacement_limit: 0.03}"), "case.yaml");
+  FosOptions options;
+  options.out_dir = root_ / "fos";
+  options.threads = 1;
+  const FosRunResult r = run_factor_of_safety(spec, options);
+  ASSERT_TRUE(r.fos.bracketed) << r.fos.message;
+  ASSERT_GE(r.fos.trials.size(), 3u);
+  EXPECT_FALSE(r.fos.trials[0].failed) << r.fos.trials[0].reason;
+  int stopped = 0;
+  for (const StrengthTrial& t : r.fos.trials) {
+    if (t.reason.find("> limit 0.03 m at load") == std::string::npos)
+      continue;
+    ++stopped;
+    EXPECT_TRUE(t.failed);
+    EXPECT_NE(t.reason.find(fmt::format("failed: crest moved {:.4g} m", t.crest_displacement())),
+              std::string::npos)
+        << t.reason;
+    EXPECT_GT(t.crest_displacement(), 0.03);
+    // Its files end at the step that went beyond: every earlier row is within the limit.
+    const CsvTable series =
+        read_csv(options.out_dir / "trials" / fmt::format("F{:.6f}", t.factor) / "timeseries.csv");
+    const auto& x = series.column("crest.x");
+    const auto& y = series.column("crest.y");
+    ASSERT_GE(x.size(), 2u);
+    for (std::size_t k = 0; k + 1 < x.size(); ++k)
+      EXPECT_LE(std::hypot(x[k] - x[0], y[k] - y[0]), 0.03) << "row " << k;
+    EXPECT_DOUBLE_EQ(series.column("time").back() / spec.time.end_time, t.load_reached);
+  }
+  // F = 4 and 2.5 stop part-way (Newton alone would have failed them later, at min_dt).
+  EXPECT_DOUBLE_EQ(r.fos.trials[1].factor, 4.0);
+  EXPECT_LT(r.fos.trials[1].load_reached, 1.0);
+  EXPECT_NE(r.fos.trials[1].reason.find("> limit 0.03 m"), std::string::npos)
+      << r.fos.trials[1].reason;
+  EXPECT_GE(stopped, 2);
+  std::ifstream log(options.out_dir / "fos.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("trial F = 4.000000: failed: crest moved"), std::string::npos) << text;
 }

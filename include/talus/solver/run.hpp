@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -23,18 +24,24 @@ struct RunOptions {
   /// Called with the state the run ended in (any status), before summary.json is written:
   /// lets a caller (talus adapt) inspect the points without reading the results back.
   std::function<void(const Scene<2>&)> final_state{};
+  /// Consulted after each completed step (a converged one in the implicit analyses) with the
+  /// state and the run's time: a message ends the run there, with status "stopped" and the
+  /// message as RunResult::message, after that step's time-series row and frame are written
+  /// (talus fos: a trial whose crest has slid too far need not carry the rest of its load).
+  std::function<std::optional<std::string>(const Scene<2>&, double time)> stop_after_step{};
 };
 
 struct RunResult {
   std::filesystem::path out_dir;
-  std::string status; ///< "completed", "numerical_failure" or "interrupted"
+  /// "completed", "numerical_failure", "interrupted" or "stopped" (by stop_after_step)
+  std::string status;
   std::string message;
   Index steps = 0;
   double final_time = 0;
   Index frames = 0;
   Index particles = 0;
   double wall_seconds = 0;
-  int exit_code = 0;         ///< 0, 1 (interrupted) or 3 (numerical failure)
+  int exit_code = 0;         ///< 0, 1 (interrupted or stopped) or 3 (numerical failure)
   std::string linear_solver; ///< implicit: the backend used (chosen or automatic); else empty
   std::map<std::string, double> extra; ///< solver statistics, also written to summary.json
   std::vector<StageSummary> stages;    ///< staged cases: each stage that ran, and why it ended

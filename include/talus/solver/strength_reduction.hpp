@@ -3,9 +3,11 @@
 // case is loaded quasi-statically, from scratch, with every frictional material's strength
 // divided by a trial factor F (c / F, tan(phi) / F); the factor of safety is the smallest F at
 // which the loading fails. A trial fails when Newton does not converge at the smallest load
-// step (no equilibrium: the mechanism runs away) or, if the case sets a limit, when the crest
-// moves further than that (a mechanism that re-stabilises after large movement, which the
-// updated-Lagrangian MPM allows). The search brackets the critical factor and bisects.
+// step (no equilibrium: the mechanism runs away) or, if the case sets a limit, as soon as the
+// crest has moved further than that after a converged load step (a mechanism that slides and
+// re-stabilises, which the updated-Lagrangian MPM allows with a patient enough Newton; the
+// trial stops there instead of carrying the rest of its load). The search brackets the
+// critical factor and bisects.
 #include "talus/io/case_spec.hpp"
 
 #include <filesystem>
@@ -32,6 +34,17 @@ struct StrengthTrial {
   double seconds = 0; ///< wall time of the trial
   double crest_displacement() const;
 };
+
+struct RunResult;
+
+/// What a trial's run says about the trial factor: it stood (the full load, the crest within
+/// `displacement_limit`) or failed, and why: interrupted, stopped by the crest limit during
+/// the loading (status "stopped"), failed numerically (Newton at min_dt, max_steps, the state
+/// guard), or converged with the crest beyond the limit. `crest_dx`, `crest_dy`: the probe's
+/// displacement at the run's last converged step.
+StrengthTrial classify_trial(const StrengthReductionSpec& settings, double factor,
+                             const RunResult& run, double end_time, double crest_dx,
+                             double crest_dy);
 
 /// The outcome of the search.
 struct FactorOfSafety {
