@@ -1309,6 +1309,9 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
   if (m.has("transfer")) {
     s.transfer = choice<TransferScheme>(
         m["transfer"], {{"flip", TransferScheme::Flip}, {"apic", TransferScheme::Apic}});
+    if (s.transfer == TransferScheme::Apic && any_implicit_stage(spec))
+      fail(m["transfer"], "transfer 'apic' is implemented in the explicit analysis only; the "
+                          "implicit analyses transfer with FLIP/PIC (set 'flip')");
     if (s.transfer == TransferScheme::Apic && s.shape == ShapeFunction::Linear)
       fail(m["transfer"], "transfer 'apic' needs shape 'gimp': with linear hats APIC's affine "
                           "moment D_p vanishes whenever a point sits on a node, and the transfer "

@@ -254,6 +254,8 @@ TEST(StagedCaseErrors, SayWhatAndWhere) {
   expect_input_error(base + "  - {name: b, analysis: implicit_dynamic, time: {end_time: 1, dt: "
                             "0.1}, at_rest: {kinetic_energy_ratio: 2}}\n",
                      12, "open interval (0, 1)");
+  expect_input_error("solver: {transfer: apic}\n" + base, 1,
+                     "'apic' is implemented in the explicit analysis only");
   expect_input_error("solver: {f_bar: true}\n" + base +
                          "  - {name: b, analysis: explicit, time: {end_time: 1, cfl: 0.5}}\n",
                      1, "stage 'b' is explicit");
