@@ -124,7 +124,7 @@ struct StageSummary {
 
 struct RunSummary {
   std::string case_name;
-  std::string status; ///< "completed", "numerical_failure", "interrupted"
+  std::string status; ///< "completed", "numerical_failure", "interrupted", "stopped"
   std::string message;
   Index steps = 0;
   double final_time = 0;
