@@ -12,9 +12,8 @@
 // would depend on the machine); the target is under 60 s on 2 cores. Measured at
 // h = 0.5 m with F-bar: FoS 1.414 (bracket [1.406, 1.422]), 8 trials, 579 Newton iterations
 // (at most 12 per attempt, min_dt 1/32; 1006 with 20 and 1/128, same trials and bracket),
-// 20.6 s of CPU (36.9 s before), 39 s wall on the shared machine; with --threads 1 12.5 s CPU,
-// 13 s wall (a second OpenMP thread does not help these small trials and its spin-waiting
-// costs; docs/architecture.md). In the fast tier for that cost. Failure is Newton's
+// 20.6 s of CPU (36.9 s before) with spinning OpenMP workers; with passive waits (the default
+// now) 12.6 s CPU and 12.7 s wall on 2 threads. In the fast tier for that cost. Failure is Newton's
 // non-convergence at min_dt or the crest moving more than 0.1 m = H / 100 (the trial stops
 // there): Newton's alone depended on its budget (40 iterations, min_dt 1/512: F = 1.5 stood,
 // FoS 1.523); with the limit that budget gives the same bracket.
