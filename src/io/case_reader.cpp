@@ -607,6 +607,7 @@ std::vector<std::string> Validator::solver_keys() {
           "linear_solver",
           "newton_tolerance",
           "max_newton_iterations",
+          "easy_newton_iterations",
           "ghost_penalty",
           "f_bar"};
 }
@@ -1289,6 +1290,14 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
     if (v < 1 || v > 200)
       fail(it_max, "must be an integer in [1, 200] (got " + it_max.node.Scalar() + ")");
     s.max_newton_iterations = static_cast<int>(v);
+  }
+  if (m.has("easy_newton_iterations")) {
+    const Item easy = m["easy_newton_iterations"];
+    const Index v = integer(easy);
+    if (v < 1 || v > s.max_newton_iterations)
+      fail(easy, fmt::format("must be an integer in [1, max_newton_iterations = {}] (got {})",
+                             s.max_newton_iterations, easy.node.Scalar()));
+    s.easy_newton_iterations = static_cast<int>(v);
   }
   if (m.has("ghost_penalty")) {
     const Item gp = m["ghost_penalty"];

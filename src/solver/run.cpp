@@ -442,10 +442,11 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       if (s.stop_after_step)
         s.stopped = s.stop_after_step(scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);
-      if (r.iterations <= 4 && ++easy_steps >= 2) {
+      const int easy = scene.spec.solver.easy_newton_iterations;
+      if (r.iterations <= easy && ++easy_steps >= 2) {
         dt = std::min(2.0 * dt, dt0);
         easy_steps = 0;
-      } else if (r.iterations > 4) {
+      } else if (r.iterations > easy) {
         easy_steps = 0;
       }
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),

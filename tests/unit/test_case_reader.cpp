@@ -819,6 +819,19 @@ TEST(CaseReaderErrors, FBarNeedsAnImplicitAnalysisAndANonsymmetricSolver) {
                 "'cholmod' needs a symmetric tangent, but f_bar couples the points of a cell"});
 }
 
+// The step-growth threshold counts Newton iterations, so it cannot exceed their limit.
+TEST(CaseReaderErrors, EasyNewtonIterationsStayWithinTheLimit) {
+  const std::string easy = with(kCase, "  flip: 0.95",
+                                "  flip: 0.95\n  max_newton_iterations: 10\n"
+                                "  easy_newton_iterations: 11");
+  expect_error(easy, {"case.yaml", 61, 27, "solver.easy_newton_iterations",
+                      "must be an integer in [1, max_newton_iterations = 10] (got 11)"});
+  EXPECT_EQ(read_case_text(with(easy, "iterations: 11", "iterations: 6"), "case.yaml")
+                .solver.easy_newton_iterations,
+            6);
+  EXPECT_EQ(read_case_text(kCase, "case.yaml").solver.easy_newton_iterations, 4);
+}
+
 // plastic_strain is a field of the elasto-plastic models: asking for it in an all-elastic case
 // is an error at the list item; with a plastic material it is accepted, and on by default.
 TEST(CaseReaderErrors, PlasticStrainFieldNeedsAPlasticMaterial) {

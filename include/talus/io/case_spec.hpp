@@ -222,6 +222,9 @@ struct SolverSpec {
   std::string linear_solver;
   double newton_tolerance = 1e-8; ///< max |R| <= tolerance * (largest external force scale)
   int max_newton_iterations = 20;
+  /// A converged step with at most this many Newton iterations is easy; after two easy steps
+  /// in a row a cut-back step doubles back towards time.dt.
+  int easy_newton_iterations = 4;
   /// Ghost-penalty factor gamma (dimensionless, times Young's modulus) on the faces of the
   /// boundary cells; 0 switches the stabilisation off. See ghost_penalty.hpp.
   double ghost_penalty = 1e-3;
