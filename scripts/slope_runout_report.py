@@ -34,8 +34,13 @@ import os
 import subprocess
 import sys
 
-import h5py
-import matplotlib
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+try:
+    import h5py
+    import matplotlib
+except ImportError:  # a fresh machine: setup.sh installs python3-h5py and python3-matplotlib
+    subprocess.run([os.path.join(REPO, "scripts", "setup.sh")], check=True)
+    os.execv(sys.executable, [sys.executable] + sys.argv)
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
@@ -328,7 +333,7 @@ def check(m, out, renders):
 
 
 def main():
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    repo = REPO
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--talus", default=os.path.join(repo, "build", "talus"))
     p.add_argument("--out", default=os.path.join("results", "slope_runout_report"))
