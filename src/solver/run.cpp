@@ -259,10 +259,10 @@ public:
                               : end_;
     if (factor == applied_)
       return;
-    const CaseSpec reduced = reduce_strength(case_spec_, factor);
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       if (auto* plastic = dynamic_cast<PlasticMaterial*>(scene_.materials[m].get()))
-        plastic->replace_model(make_plastic_model(reduced.materials[m]));
+        plastic->replace_model(
+            make_plastic_model(reduce_strength(case_spec_.materials[m], factor)));
     applied_ = factor;
   }
   double factor() const { return applied_; }

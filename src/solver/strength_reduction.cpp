@@ -166,22 +166,27 @@ StrengthTrial classify_trial(const StrengthReductionSpec& settings, double facto
   return trial;
 }
 
+MaterialSpec reduce_strength(const MaterialSpec& material, double factor) {
+  MaterialSpec m = material;
+  if (m.model != MaterialModel::Tresca && m.model != MaterialModel::MohrCoulomb &&
+      m.model != MaterialModel::DruckerPrager)
+    return m;
+  m.cohesion /= factor;
+  m.friction_angle = reduced_angle(m.friction_angle, factor);
+  if (m.residual) {
+    m.residual->cohesion /= factor;
+    m.residual->friction_angle = reduced_angle(m.residual->friction_angle, factor);
+  }
+  // psi may not exceed phi at any point of the softening either.
+  m.dilation_angle = std::min(
+      {m.dilation_angle, m.friction_angle, m.residual ? m.residual->friction_angle : 90.0});
+  return m;
+}
+
 CaseSpec reduce_strength(const CaseSpec& spec, double factor) {
   CaseSpec reduced = spec;
-  for (MaterialSpec& m : reduced.materials) {
-    if (m.model != MaterialModel::Tresca && m.model != MaterialModel::MohrCoulomb &&
-        m.model != MaterialModel::DruckerPrager)
-      continue;
-    m.cohesion /= factor;
-    m.friction_angle = reduced_angle(m.friction_angle, factor);
-    if (m.residual) {
-      m.residual->cohesion /= factor;
-      m.residual->friction_angle = reduced_angle(m.residual->friction_angle, factor);
-    }
-    // psi may not exceed phi at any point of the softening either.
-    m.dilation_angle = std::min(
-        {m.dilation_angle, m.friction_angle, m.residual ? m.residual->friction_angle : 90.0});
-  }
+  for (MaterialSpec& m : reduced.materials)
+    m = reduce_strength(m, factor);
   return reduced;
 }
 

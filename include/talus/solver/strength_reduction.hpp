@@ -22,6 +22,8 @@ namespace talus {
 /// flow parameter and not a strength, is kept unless it exceeds the reduced (peak or residual)
 /// phi, where it is capped (the models require psi <= phi).
 CaseSpec reduce_strength(const CaseSpec& spec, double factor);
+/// One material weakened the same way (unchanged unless tresca, mohr_coulomb, drucker_prager).
+MaterialSpec reduce_strength(const MaterialSpec& material, double factor);
 
 /// What the loading at one trial factor found.
 struct StrengthTrial {
