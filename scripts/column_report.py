@@ -27,8 +27,11 @@ import os
 import subprocess
 import sys
 
-import h5py
-import matplotlib
+from report_setup import ensure_packages
+
+ensure_packages()
+import h5py  # noqa: E402
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402

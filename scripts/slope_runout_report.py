@@ -34,13 +34,11 @@ import os
 import subprocess
 import sys
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-try:
-    import h5py
-    import matplotlib
-except ImportError:  # a fresh machine: setup.sh installs python3-h5py and python3-matplotlib
-    subprocess.run([os.path.join(REPO, "scripts", "setup.sh")], check=True)
-    os.execv(sys.executable, [sys.executable] + sys.argv)
+from report_setup import REPO, ensure_packages
+
+ensure_packages()
+import h5py  # noqa: E402
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
