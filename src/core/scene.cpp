@@ -128,6 +128,40 @@ template <class F> void for_each_body_site(const Grid<2>& grid, const BodySpec& 
     }
 }
 
+// APIC carries the velocity gradient C_p = grad v with every point. It starts as the gradient of
+// the body's initial velocity field, so that the first transfer is as exact as the later ones:
+// a spin started with C_p = 0 is projected like FLIP on its first step, inexactly at the edge,
+// which shook the rigid-rotation disc to 5x its centrifugal stress. Expressions are
+// differentiated by central differences a thousandth of a cell wide (truncation error
+// 1e-7 h^2 |v'''|, round-off 1e-13 |v| / h).
+void set_initial_affine_velocity(Scene<2>& scene, const BodySpec& body,
+                                 const std::vector<Index>& created) {
+  auto& P = scene.particles;
+  P.affine_velocity.resize(static_cast<std::size_t>(P.size()), Mat2::Zero());
+  Mat2 spin;
+  spin << 0.0, -body.angular_velocity, body.angular_velocity, 0.0;
+  for (Index p : created)
+    P.affine_velocity[static_cast<std::size_t>(p)] = spin;
+  const double delta = 1e-3 * scene.grid.cell_size();
+  for (int d = 0; d < 2; ++d) {
+    const std::string& text = body.velocity_expression[static_cast<std::size_t>(d)];
+    if (text.empty())
+      continue;
+    const PositionExpression velocity(text);
+    for (Index p : created) {
+      const Vec2& x = P.x[static_cast<std::size_t>(p)];
+      const Vec2 gradient(velocity(x.x() + delta, x.y()) - velocity(x.x() - delta, x.y()),
+                          velocity(x.x(), x.y() + delta) - velocity(x.x(), x.y() - delta));
+      if (!gradient.allFinite())
+        throw InputError(body.where,
+                         fmt::format("velocity expression '{}' has no finite gradient at "
+                                     "({:g}, {:g}), which transfer: apic needs",
+                                     text, x.x(), x.y()));
+      P.affine_velocity[static_cast<std::size_t>(p)].row(d) += gradient.transpose() / (2 * delta);
+    }
+  }
+}
+
 // Fills the particles of one body: one point at every lattice site (for_each_body_site) that
 // lies inside the body. The placement jitter then moves each kept point within its own lattice
 // cell, so a rectangle aligned with the lattice keeps all its points inside; volumes stay
@@ -208,6 +242,8 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
       P.v[static_cast<std::size_t>(p)] += body.angular_velocity * Vec2(-r.y(), r.x());
     }
   }
+  if (scene.spec.solver.transfer == TransferScheme::Apic)
+    set_initial_affine_velocity(scene, body, created);
 }
 
 Index nearest_particle(const Particles<2>& P, const Vec2& q) {

@@ -2,24 +2,30 @@
 // tip load is a traction on the end face (applied at the face, see grid/surface_load.hpp).
 //  * Linear range, tip shear load P = 1: the mean vertical displacement of the tip column of
 //    points against Timoshenko & Goodier, u_y(x) = -P / (6 E I) (D^2 x + (3L - x) x^2) for
-//    nu = 0 (y-independent), at 4, 8 and 16 cells through the depth; within 1 % at 8 cells.
-//    Measured errors 0.72 %, 0.06 %, 0.10 %: beyond 8 cells the error is the model difference
-//    of the fully clamped root (the analytical solution lets the root section warp), not a
-//    discretisation error, so convergence is checked on the deflections themselves: successive
-//    differences must shrink (|u16 - u8| < |u8 - u4|), with the observed order reported.
+//    nu = 0 (y-independent), at 4, 8 and 16 cells through the depth. Measured errors 0.72 %,
+//    0.062 %, 0.10 %: beyond 8 cells the error is the model difference of the fully clamped
+//    root (the analytical solution lets the root section warp), not a discretisation error.
+//    So the 8-cell deflection must lie within 0.2 % (3x its error, twice the 0.10 % of the
+//    model difference), and convergence is checked on the deflections themselves: the observed
+//    order of the successive differences log2(|u8 - u4| / |u16 - u8|) must lie in [1.5, 2.5]
+//    (displacements of the bilinear-like MPM field converge at second order; measured 2.01).
 //  * Large deflection, Hencky material, dead tip load P L^2 / (E I) = alpha: the displacement
 //    of the tip column of points against the elastica (theta'' = -alpha cos(theta), solved by
-//    shooting with RK4) at the same arclength, within 2 %; at alpha = 0.25 (10 load steps, the
-//    talk's section) and alpha = 2 (50 load steps; the tip sweeps across dozens of cells and the
+//    shooting with RK4) at the same arclength; at alpha = 0.25 (10 load steps, the talk's
+//    section) and alpha = 2 (50 load steps; the tip sweeps across dozens of cells and the
 //    ghost penalty keeps the tangent regular). The elastica is inextensible and shear-rigid,
 //    which a thick continuum beam is not: at L/D = 8 and alpha = 2 the measured deflection lies
 //    2.2 % above it at 8 and at 16 cells, refinement does not remove it, and a Reissner beam with
 //    shear flexibility accounts for about half. So alpha = 2 runs on a beam of half the depth
 //    (L/D = 16, references::kSlenderBeamDepth), where shear and fibre strain are 4x and 2x
-//    smaller. Newton must converge quadratically at alpha = 0.25: on every load step the last
-//    iterate above the round-off floor satisfies log r_{k+1} / log r_k >= 1.8 (at alpha = 2 the
-//    beam is so compliant that the quadratic constant is large and this scale-dependent measure
-//    does not apply); at alpha = 2 at most 6 Newton iterations per load step.
+//    smaller. Tolerances from the measurement and that model difference: alpha = 0.25, v within
+//    2 % (measured 1.04 %, of which Timoshenko's shear deflection 3 E I / (k G A L^2) = 0.94 %),
+//    u within 0.5 % (measured 0.14 %); alpha = 2, v within 2 % (measured 0.89 %), u within 3 %
+//    (measured 1.5 %). Newton must converge quadratically at alpha = 0.25: on every load step
+//    the last iterate above the round-off floor satisfies log r_{k+1} / log r_k >= 1.8 (at
+//    alpha = 2 the beam is so compliant that the quadratic constant is large and this
+//    scale-dependent measure does not apply); at alpha = 2 at most 6 Newton iterations per load
+//    step (measured 4; an inconsistent tangent needs tens).
 #include "cases.hpp"
 #include "references.hpp"
 
@@ -89,16 +95,15 @@ VerificationCase cantilever() {
       deflections.push_back(u.y() / reference *
                             references::cantilever_deflection(kBeamLength, 1.0));
       checks.push_back(n == 8 ? relative_check("tip deflection, 8 cells/depth", u.y(), reference,
-                                               0.01, "Timoshenko-Goodier at the tip column")
+                                               0.002, "Timoshenko-Goodier at the tip column")
                               : report_only(fmt::format("tip deflection error, {} cells/depth", n),
                                             std::abs(u.y() / reference - 1.0)));
     }
     const double coarse_step = std::abs(deflections[1] - deflections[0]);
     const double fine_step = std::abs(deflections[2] - deflections[1]);
-    checks.push_back(bound_check("deflection change 8->16 / 4->8 cells", fine_step / coarse_step,
-                                 1.0,
-                                 fmt::format("self-convergence; observed order {:.2f}",
-                                             std::log2(coarse_step / fine_step))));
+    checks.push_back(within_check("observed order of the deflection changes 4->8->16",
+                                  observed_order(coarse_step, fine_step), 1.5, 2.5,
+                                  "self-convergence; theory 2"));
 
     for (const auto& [alpha, steps] : {std::pair{0.25, 10}, std::pair{2.0, 50}}) {
       // alpha = 0.25 on the talk's section (L/D = 8), alpha = 2 on the slender one (L/D = 16).
@@ -120,14 +125,14 @@ VerificationCase cantilever() {
       checks.push_back(relative_check(fmt::format("elastica v/L (alpha {:g})", alpha),
                                       -u.y() / kBeamLength, ref.v_over_L, 0.02, note));
       checks.push_back(relative_check(fmt::format("elastica u/L (alpha {:g})", alpha),
-                                      -u.x() / kBeamLength, ref.u_over_L, 0.02,
+                                      -u.x() / kBeamLength, ref.u_over_L, alpha < 1 ? 0.005 : 0.03,
                                       "tip shortening, same point"));
       if (alpha < 1)
-        checks.push_back(minimum_check("Newton order (worst step)",
-                                       worst_newton_order(dir / "newton.log"), 1.8,
-                                       "log r_{k+1} / log r_k in the quadratic regime"));
+        checks.push_back(at_least_check("Newton order (worst step)",
+                                        worst_newton_order(dir / "newton.log"), 1.8,
+                                        "log r_{k+1} / log r_k in the quadratic regime"));
       else
-        checks.push_back(bound_check(
+        checks.push_back(at_most_check(
             fmt::format("Newton iterations per step (alpha {:g})", alpha),
             run.extra.at("newton_iterations_max_per_step"), 6.0,
             fmt::format("largest; {:g} in all over {} steps, {:g} cut-backs",

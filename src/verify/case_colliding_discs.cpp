@@ -1,10 +1,19 @@
 // Colliding elastic discs (the reference talk's material). Three physical truths:
-//  * linear momentum: no external force acts, so |P(t)| stays at round-off. Each step adds at
-//    most a few machine epsilons of sum(m |v|); the bound is 10 * steps * eps * sum(m |v0|).
-//  * mirror symmetry about x + y = 1: every point of one disc has a partner in the other
-//    at (1 - y, 1 - x). Only round-off breaks it: bound 1e-9 cell sizes.
-//  * energy: the collision is elastic; the loss of kinetic + strain energy over the collision
-//    with FLIP MUSL must stay below 5 % (the bound) at the reference resolution.
+//  * linear momentum: no external force acts, so P(t) = P(0) to round-off. The talk's scene is
+//    mirror-symmetric and its total momentum is zero whatever the solver does, so momentum is
+//    checked on a second, lopsided pair: the upper disc smaller (R = 0.15) and off the
+//    diagonal, so that P(0) != 0 and the impact is oblique (|P(0)| = 0.28 sum m|v0|). Each step
+//    rounds the momentum sums by about an epsilon of sum(m |v|), with random signs: the bound is
+//    sqrt(steps) eps sum(m |v0|), the random walk of that rounding (measured 1/3.6 of it; a
+//    force that does not sum to zero, e.g. gravity, breaks it at once).
+//  * mirror symmetry about x + y = 1 (the talk's scene): every point of one disc has a partner
+//    in the other at (1 - y, 1 - x). Only round-off breaks it, the sums taken in another order
+//    on the two sides: at most an epsilon of the position per step, steps eps max|x| / h cell
+//    sizes (measured 1/7.5 of it).
+//  * energy: the collision is elastic; with FLIP MUSL the loss of kinetic + strain energy over
+//    the collision is measured 0.58 % at the reference resolution. It is bounded on both sides:
+//    no energy may appear (loss >= 0), and at most 1.5 % may go (2.6x the measured loss), so
+//    that a dissipative transfer (PIC loses most of the energy) or a damped update fails.
 #include "cases.hpp"
 
 #include "talus/io/csv.hpp"
@@ -21,63 +30,73 @@ Vec2 mirror(const Vec2& x) {
   return {1.0 - x.y(), 1.0 - x.x()};
 }
 
+Vec2 row(const std::vector<double>& xy, Index p) {
+  return {xy[static_cast<std::size_t>(2 * p)], xy[static_cast<std::size_t>(2 * p + 1)]};
+}
+
+/// sum_p m_p |v_p| of the first frame: the scale of the momentum round-off.
+double momentum_scale(const ResultsReader& results) {
+  Index rows = 0, cols = 0;
+  const auto mass = results.read(0, "mass", &rows, &cols);
+  const auto v0 = results.read(0, "velocity", &rows, &cols);
+  double scale = 0;
+  for (Index p = 0; p < rows; ++p)
+    scale += mass[static_cast<std::size_t>(p)] * row(v0, p).norm();
+  return scale;
+}
+
+/// max_t |P(t) - P(0)| over the time series.
+double momentum_drift(const CsvTable& series) {
+  const auto& px = series.column("momentum_x");
+  const auto& py = series.column("momentum_y");
+  double drift = 0;
+  for (std::size_t i = 0; i < px.size(); ++i)
+    drift = std::max(drift, std::hypot(px[i] - px.front(), py[i] - py.front()));
+  return drift;
+}
+
+/// Largest distance / h between a point and the mirror image of its partner, in the last frame.
+double mirror_asymmetry(const ResultsReader& results, double h) {
+  Index rows = 0, cols = 0;
+  const auto x0 = results.read(0, "position", &rows, &cols);
+  const Index n = rows;
+  // Partner of each point under the mirror map, found on the initial lattice.
+  std::vector<Index> partner(static_cast<std::size_t>(n), -1);
+  for (Index p = 0; p < n; ++p) {
+    const Vec2 target = mirror(row(x0, p));
+    for (Index q = 0; q < n; ++q)
+      if ((row(x0, q) - target).norm() < 1e-9 * h) {
+        partner[static_cast<std::size_t>(p)] = q;
+        break;
+      }
+    if (partner[static_cast<std::size_t>(p)] < 0)
+      throw std::runtime_error(fmt::format("point {} has no mirror partner at t = 0", p));
+  }
+  const auto x_end = results.read(results.frame_count() - 1, "position", &rows, &cols);
+  double asymmetry = 0;
+  for (Index p = 0; p < n; ++p)
+    asymmetry = std::max(
+        asymmetry,
+        (row(x_end, partner[static_cast<std::size_t>(p)]) - mirror(row(x_end, p))).norm() / h);
+  return asymmetry;
+}
+
 } // namespace
 
 VerificationCase colliding_discs() {
   VerificationCase vc;
   vc.name = "colliding_discs";
   vc.description = "Two neo-Hookean discs (rho0 = 20, E = 1e5, nu = 0.3) collide and rebound: "
-                   "momentum conservation, mirror symmetry about x + y = 1, and energy loss "
-                   "over the collision (GIMP, MUSL, FLIP).";
+                   "mirror symmetry about x + y = 1 and energy loss over the collision (GIMP, "
+                   "MUSL, FLIP); momentum conservation on a lopsided pair with P(0) != 0.";
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
+    const double eps = std::numeric_limits<double>::epsilon();
     const CaseSpec spec = load_verification_case(ctx);
     const auto dir = ctx.out_dir / "run";
     const RunResult r = run_quiet(spec, dir, ctx.threads);
     const CsvTable series = read_csv(dir / "timeseries.csv");
-    ResultsReader results(dir / "run.h5");
-
-    Index rows = 0, cols = 0;
-    const auto mass = results.read(0, "mass", &rows, &cols);
-    const auto x0 = results.read(0, "position", &rows, &cols);
-    const auto v0 = results.read(0, "velocity", &rows, &cols);
-    const Index n = rows;
-    double momentum_scale = 0;
-    for (Index p = 0; p < n; ++p)
-      momentum_scale +=
-          mass[static_cast<std::size_t>(p)] *
-          std::hypot(v0[static_cast<std::size_t>(2 * p)], v0[static_cast<std::size_t>(2 * p + 1)]);
-    double max_momentum = 0;
-    const auto& px = series.column("momentum_x");
-    const auto& py = series.column("momentum_y");
-    for (std::size_t i = 0; i < px.size(); ++i)
-      max_momentum = std::max(max_momentum, std::hypot(px[i], py[i]));
-    const double eps = std::numeric_limits<double>::epsilon();
-    const double momentum_bound = 10.0 * static_cast<double>(r.steps) * eps;
-
-    // Partner of each point under the mirror map, found on the initial lattice.
-    auto at = [](const std::vector<double>& xy, Index p) {
-      return Vec2(xy[static_cast<std::size_t>(2 * p)], xy[static_cast<std::size_t>(2 * p + 1)]);
-    };
-    std::vector<Index> partner(static_cast<std::size_t>(n), -1);
-    const double h = spec.grid.cell_size;
-    for (Index p = 0; p < n; ++p) {
-      const Vec2 target = mirror(at(x0, p));
-      for (Index q = 0; q < n; ++q)
-        if ((at(x0, q) - target).norm() < 1e-9 * h) {
-          partner[static_cast<std::size_t>(p)] = q;
-          break;
-        }
-      if (partner[static_cast<std::size_t>(p)] < 0)
-        throw std::runtime_error(fmt::format("point {} has no mirror partner at t = 0", p));
-    }
-    const Index last = results.frame_count() - 1;
-    const auto x_end = results.read(last, "position", &rows, &cols);
-    double asymmetry = 0;
-    for (Index p = 0; p < n; ++p)
-      asymmetry = std::max(
-          asymmetry,
-          (at(x_end, partner[static_cast<std::size_t>(p)]) - mirror(at(x_end, p))).norm() / h);
+    const ResultsReader results(dir / "run.h5");
 
     const auto& total = series.column("total_energy");
     const auto& kinetic = series.column("kinetic_energy");
@@ -86,15 +105,35 @@ VerificationCase colliding_discs() {
     for (double k : kinetic)
       min_kinetic = std::min(min_kinetic, k);
 
+    // The lopsided pair: smaller upper disc, off the diagonal; its momentum does not cancel.
+    // It rebounds faster and would leave the grid at 0.069 s: the run ends after the rebound.
+    const CaseSpec lopsided = load_verification_case(
+        ctx, {"bodies[1].radius=0.15", "bodies[1].centre=[0.78, 0.74]", "time.end_time=0.06"});
+    const auto lopsided_dir = ctx.out_dir / "lopsided";
+    const RunResult rl = run_quiet(lopsided, lopsided_dir, ctx.threads);
+    const CsvTable lopsided_series = read_csv(lopsided_dir / "timeseries.csv");
+    const double scale = momentum_scale(ResultsReader(lopsided_dir / "run.h5"));
+    const double p0 = std::hypot(lopsided_series.column("momentum_x").front(),
+                                 lopsided_series.column("momentum_y").front());
+    const double momentum_bound = std::sqrt(static_cast<double>(rl.steps)) * eps;
+    const double h = spec.grid.cell_size;
+    // max |x| = 1: the coordinates stay within the unit square.
+    const double symmetry_bound = static_cast<double>(r.steps) * eps / h;
+
     return std::vector<Check>{
-        bound_check("max |P(t)| / sum m|v0|", max_momentum / momentum_scale, momentum_bound,
-                    fmt::format("10 x steps ({}) x machine epsilon", r.steps)),
-        bound_check("mirror asymmetry / h (final)", asymmetry, 1e-9, "round-off only"),
-        bound_check("energy loss over collision", loss, 0.05,
-                    "(E(0) - E(end)) / E(0), kinetic + strain"),
-        report_only("min kinetic / initial energy", min_kinetic / total.front(),
-                    "shows the discs really collided"),
-        report_only("particles", static_cast<double>(n)),
+        at_most_check(
+            "lopsided: max |P(t) - P(0)| / sum m|v0|", momentum_drift(lopsided_series) / scale,
+            momentum_bound,
+            fmt::format("sqrt(steps = {}) eps; |P(0)| = {:.3g} sum m|v0|", rl.steps, p0 / scale)),
+        at_least_check("lopsided: |P(0)| / sum m|v0|", p0 / scale, 0.1,
+                       "the lopsided pair really carries momentum"),
+        at_most_check("mirror asymmetry / h (final)", mirror_asymmetry(results, h), symmetry_bound,
+                      fmt::format("steps ({}) eps max|x| / h", r.steps)),
+        within_check("energy loss over collision", loss, 0.0, 0.015,
+                     "(E(0) - E(end)) / E(0), kinetic + strain; none gained, 2.6x measured lost"),
+        at_most_check("min kinetic / initial energy", min_kinetic / total.front(), 0.1,
+                      "the discs really collided: most of the energy went into strain"),
+        report_only("particles", static_cast<double>(r.particles)),
         report_only("steps", static_cast<double>(r.steps))};
   };
   return vc;

@@ -1,7 +1,14 @@
 // Stress recovery on the reference talk's cantilever (verification/grashof.yaml: L = 8, D = 1,
-// E = 3e5, nu = 0, tip force P = -1 N, i.e. downwards; implicit quasi-static, GIMP, 2 x 2 points
-// per cell). At mid-span x = L/2, through the depth, three shear-stress profiles are compared
-// with Grashof's (Jourawski's) parabola tau_xy(y) = 3P/(2D) (1 - 4y^2/D^2):
+// nu = 0, tip force P = -1 N, i.e. downwards; implicit quasi-static, GIMP, 2 x 2 points per
+// cell) with E = 3e8 instead of the talk's 3e5. The beam is statically determinate, so its
+// stresses do not depend on E, but its rotation does: at E = 3e5 the mid-span section turns by
+// 1e-3 rad, and the small-strain linear law (W(sym F - I), not objective) carries half of that
+// rotation of the bending stress into the shear, theta sigma_xx / 2 = 1.5 % of the peak shear
+// at the surface, a floor of the comparison with the small-deformation references that
+// refinement cannot remove (measured: the interior grid-node error stalled at 1.1 % from 16 to
+// 32 cells, observed order 0.25). At E = 3e8 it turns by 1e-6. At mid-span x = L/2, through the
+// depth, three shear-stress profiles are compared with Grashof's (Jourawski's) parabola tau_xy(y) =
+// 3P/(2D) (1 - 4y^2/D^2):
 //   (a) raw particle stress of the column of points nearest mid-span (first column x0 >= L/2),
 //   (b) grid-node stress sigma_i = sum_p sigma_p Phi_ip m_p / m_i on the node line x = L/2,
 //   (c) smoothed particle stress sigma_p^s = sum_i sigma_i Phi_ip of the column of (a);
@@ -13,16 +20,20 @@
 //
 // Checks and why these bounds:
 //  * Reference resolution 8 cells through the depth (the cantilever verification's). The
-//    recovered shear (b) must be within 5 % and the recovered bending stress (b) within 2 %
-//    (the bounds) over the sample points whose shape-function support lies inside the
-//    beam, |y| <= D/2 - h. At the two free surfaces the projection averages one-sidedly (the
-//    node's support is cut by the surface), which biases any field by O(h) there whatever the
-//    particle stresses are; that band is the formula's, not MPM's noise, and shrinks as h -> 0.
-//    The full-depth errors, surface band included, are reported next to the checked ones and
-//    must fall under refinement too.
-//  * The recovered errors must fall from 4 to 8 to 16 cells/depth (32 in the full tier).
-//  * The raw particle error is reported, not bounded: the talk's point is that it is large
-//    (the parasitic shear of bending, of opposite sign in neighbouring point columns).
+//    recovered shear (b) must be within 5 % (the bound; measured 3.0 %) and the recovered
+//    bending stress (b) within 0.5 % (2.5x the measured 0.20 %) over the sample points whose
+//    shape-function support lies inside the beam, |y| <= D/2 - h. At the two free surfaces the
+//    projection averages one-sidedly (the node's support is cut by the surface), which biases
+//    any field by O(h) there whatever the particle stresses are; that band is the formula's,
+//    not MPM's noise, and shrinks as h -> 0.
+//  * Observed orders from 4 to 8 to 16 cells/depth (32 in the full tier). Raw particle shear
+//    (a): first order, [0.8, 1.2] (measured 0.96 to 0.99: the parasitic shear of bending, of
+//    opposite sign in neighbouring point columns, is O(h)). Recovered (b) and (c) inside the
+//    band: second order, [1.5, 2.5] (measured 1.83 to 1.96): the projection averages the
+//    alternating O(h) part away and leaves the displacement's order. Full depth, surface band
+//    included: an O(h) bias on a band of width h adds h^1.5 to the L2 norm, so [1.2, 1.8]
+//    (measured 1.30 to 1.47, rising towards 1.5).
+//  * The raw particle errors are reported, not bounded: the talk's point is that they are large.
 //  * Linear hats at the reference resolution get the same bounds: the talk used them.
 // The report shows the three shear profiles against the parabola (grashof.png, drawn by
 // scripts/plot_grashof.py).
@@ -155,7 +166,8 @@ VerificationCase grashof() {
   VerificationCase vc;
   vc.name = "grashof";
   vc.description =
-      "Stress recovery (Andersen 2013) on the talk's cantilever (L = 8, D = 1, E = 3e5, nu = 0, "
+      "Stress recovery (Andersen 2013) on the talk's cantilever (L = 8, D = 1, nu = 0, E = 3e8 "
+      "so that the section's rotation does not enter the small-strain references, "
       "tip force -1 N): shear through the depth at mid-span from raw particle stress, grid-node "
       "stress and smoothed particle stress against Grashof's parabola, and the bending stress "
       "against Navier, under refinement. Checked errors exclude the free-surface band of width h "
@@ -167,7 +179,7 @@ VerificationCase grashof() {
     if (ctx.tier == "full")
       depth_cells.push_back(32);
     constexpr int kReference = 8;
-    std::vector<double> grid_errors, smoothed_errors, grid_full, smoothed_full;
+    std::vector<double> raw_errors, grid_errors, smoothed_errors, grid_full, smoothed_full;
     auto run = [&](int n, const std::string& shape) {
       const double h = kBeamDepth / n;
       const CaseSpec spec = load_verification_case(
@@ -182,6 +194,7 @@ VerificationCase grashof() {
       const auto [raw_shear, raw_bending] = m.raw.errors(full);
       const auto [grid_shear, grid_bending] = m.grid.errors(interior);
       const auto [smooth_shear, smooth_bending] = m.smoothed.errors(interior);
+      raw_errors.push_back(raw_shear);
       grid_errors.push_back(grid_shear);
       smoothed_errors.push_back(smooth_shear);
       grid_full.push_back(m.grid.errors(full).first);
@@ -190,10 +203,10 @@ VerificationCase grashof() {
       checks.push_back(report_only("shear (a) raw particles, " + at, raw_shear,
                                    "relative L2 over the column, full depth"));
       if (n == kReference) {
-        checks.push_back(bound_check("shear (b) grid nodes, " + at, grid_shear, 0.05,
-                                     "relative L2, |y| <= D/2 - h"));
-        checks.push_back(bound_check("bending (b) grid nodes, " + at, grid_bending, 0.02,
-                                     "relative L2, |y| <= D/2 - h"));
+        checks.push_back(at_most_check("shear (b) grid nodes, " + at, grid_shear, 0.05,
+                                       "relative L2, |y| <= D/2 - h"));
+        checks.push_back(at_most_check("bending (b) grid nodes, " + at, grid_bending, 0.005,
+                                       "relative L2, |y| <= D/2 - h"));
         write_profiles_csv(ctx.out_dir / "grashof_profiles.csv", m);
       } else {
         checks.push_back(
@@ -214,27 +227,28 @@ VerificationCase grashof() {
       checks.push_back(
           report_only("bending (a) raw particles, " + at, raw_bending, "relative L2, full depth"));
     }
-    auto falls = [&](const std::string& what, const std::vector<double>& e) {
+    auto orders = [&](const std::string& what, const std::vector<double>& e, double low,
+                      double high, const char* theory) {
       for (std::size_t k = 1; k < e.size(); ++k)
-        checks.push_back(bound_check(
-            fmt::format("{} error ratio {}/{} cells", what, depth_cells[k], depth_cells[k - 1]),
-            e[k] / e[k - 1], 1.0,
-            fmt::format("observed order {:.2f}; must fall", std::log2(e[k - 1] / e[k]))));
+        checks.push_back(within_check(
+            fmt::format("{} observed order {}->{} cells", what, depth_cells[k - 1], depth_cells[k]),
+            observed_order(e[k - 1], e[k]), low, high, theory));
     };
-    falls("shear (b)", grid_errors);
-    falls("shear (c)", smoothed_errors);
-    falls("shear (b) full depth", grid_full);
-    falls("shear (c) full depth", smoothed_full);
+    orders("shear (a) raw", raw_errors, 0.8, 1.2, "theory 1: the parasitic shear is O(h)");
+    orders("shear (b)", grid_errors, 1.5, 2.5, "theory 2");
+    orders("shear (c)", smoothed_errors, 1.5, 2.5, "theory 2");
+    orders("shear (b) full depth", grid_full, 1.2, 1.8, "theory 1.5: O(h) surface band");
+    orders("shear (c) full depth", smoothed_full, 1.2, 1.8, "theory 1.5: O(h) surface band");
 
     // Linear hats, as in the talk, at the reference resolution.
     const auto [m, h] = run(kReference, "linear");
     const std::string at = fmt::format("linear hats, {} cells/depth", kReference);
-    checks.push_back(bound_check("shear (b) grid nodes, " + at,
-                                 m.grid.errors(0.5 * kBeamDepth - h).first, 0.05,
-                                 "relative L2, |y| <= D/2 - h"));
-    checks.push_back(bound_check("bending (b) grid nodes, " + at,
-                                 m.grid.errors(0.5 * kBeamDepth - h).second, 0.02,
-                                 "relative L2, |y| <= D/2 - h"));
+    checks.push_back(at_most_check("shear (b) grid nodes, " + at,
+                                   m.grid.errors(0.5 * kBeamDepth - h).first, 0.05,
+                                   "relative L2, |y| <= D/2 - h"));
+    checks.push_back(at_most_check("bending (b) grid nodes, " + at,
+                                   m.grid.errors(0.5 * kBeamDepth - h).second, 0.005,
+                                   "relative L2, |y| <= D/2 - h"));
     checks.push_back(report_only("shear (a) raw particles, " + at,
                                  m.raw.errors(0.5 * kBeamDepth + h).first,
                                  "relative L2, full depth"));

@@ -1,21 +1,33 @@
 // Rigid motions of stress-free bodies must not create stress.
-//  * Translation: the grid velocity is the particles' velocity up to round-off and the
-//    gradients of the shape functions sum to zero, so the strain grows only by round-off:
-//    |sigma| / E stays below 10 * steps * machine epsilon; every point moves by exactly v t.
-//  * Rotation: with APIC transfers (exact for affine velocity fields), the incrementally
-//    objective update of F and the objective neo-Hookean model, a spin is stress-free; what
-//    remains is the physical centrifugal stress of a disc released spinning, whose static value
-//    is (3 + nu) / 8 rho omega^2 R^2. Released suddenly, the fundamental mode overshoots to
-//    twice the static value; the bound 4 leaves room for higher modes adding to it. A
-//    non-objective update would give stresses of order E (1 - cos(theta)) = 2e5 Pa here, six
-//    orders above. The same disc with FLIP transfers is reported, not bounded: FLIP projects a
-//    rotation inexactly at the disc's edge (the mass-weighted node velocity belongs to the
-//    particles' centroid, not to the node), and that error shows up as stress.
+//  * Translation (verification/rigid_translation.yaml, 20 cells travelled): the grid velocity is
+//    the particles' velocity up to round-off and the gradients of the shape functions sum to
+//    zero up to the round-off of the point-node offsets, eps |x| / h relative; each step's
+//    strain increment is then at most (|v| dt / h) eps |x| / h, which adds up to
+//    eps (d / h) (max |x| / h) over the distance d travelled. Bound: 4x that (measured 1/2.8 of
+//    the bound). Positions: x += dt v rounds by at most eps |x| / 2 per step, so every point
+//    must move by v t within steps eps max|x| / (2 h) cell sizes: the worst case of the position
+//    sum (the roundings partly cancel: measured an eighth of it).
+//  * Rotation (verification/rigid_rotation.yaml): with APIC transfers (exact for affine velocity
+//    fields), the incrementally objective update of F and the objective neo-Hookean model, a
+//    spin is stress-free; what remains is the physical centrifugal stress of a disc released
+//    spinning, whose static value is (3 + nu) / 8 rho omega^2 R^2. Released suddenly, the disc
+//    oscillates about that static state, between 0 and twice it in its fundamental mode: over
+//    100 frames the largest stress must reach the static value (a disc that carries no stress
+//    does not hold itself together) and stay below 4x (the overshoot 2 with higher modes on
+//    top). A non-objective update would give stresses of order E (1 - cos(theta)) = 2e5 Pa
+//    here, six orders above. The same disc with FLIP transfers keeps its stress far below that
+//    (objective, |sigma| / E <= 1e-2, 2.8x the measured 3.6e-3), but not at the centrifugal level:
+//    FLIP projects a rotation inexactly at the disc's edge (the mass-weighted node velocity
+//    belongs to the particles' centroid, not to the node) and that strains the edge: 1085x the
+//    centrifugal stress, a known failure of the FLIP transfer for spinning bodies. (APIC's
+//    points start with the affine field of the spin, C_p = omega J: started at zero, the first
+//    step projected the spin like FLIP and shook the disc to 5.1x.)
 #include "cases.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numbers>
 
 namespace talus::verify_cases {
 
@@ -53,18 +65,23 @@ VerificationCase rigid_translation() {
     const auto x1 = results.read(last, "position", &rows, &cols);
     const double t = results.frame_time(last);
     const Vec2 v = spec.bodies[0].velocity;
-    double drift = 0;
-    for (Index p = 0; p < rows; ++p)
-      for (int d = 0; d < 2; ++d)
-        drift = std::max(drift, std::abs(x1[static_cast<std::size_t>(2 * p + d)] -
-                                         x0[static_cast<std::size_t>(2 * p + d)] - v[d] * t));
+    double drift = 0, largest = 0;
+    for (std::size_t k = 0; k < x1.size(); ++k) {
+      drift = std::max(drift, std::abs(x1[k] - x0[k] - v[static_cast<int>(k % 2)] * t));
+      largest = std::max(largest, std::abs(x1[k]));
+    }
     const double h = spec.grid.cell_size;
+    const double travelled = v.norm() * t / h;
+    const double stress_bound = 4.0 * eps * travelled * (largest / h);
+    const double drift_bound = steps * eps * largest / (2.0 * h);
     return std::vector<Check>{
-        bound_check("max |sigma| / E over all frames", max_stress_over_frames(results) / E,
-                    10.0 * steps * eps, fmt::format("10 x steps ({}) x machine epsilon", r.steps)),
-        bound_check("max |x - x0 - v t| / h", drift / h, 10.0 * steps * eps * 100.0,
-                    "round-off of the position sums, 100 h travelled at most"),
-        report_only("distance travelled / h", v.norm() * t / h)};
+        at_most_check(
+            "max |sigma| / E over all frames", max_stress_over_frames(results) / E, stress_bound,
+            fmt::format("4 eps (d / h = {:.1f}) (max |x| / h = {:.1f})", travelled, largest / h)),
+        at_most_check("max |x - x0 - v t| / h", drift / h, drift_bound,
+                      fmt::format("position sum: steps ({}) eps max|x| / 2h", r.steps)),
+        within_check("distance travelled / h", travelled, 19.0, 21.0,
+                     "the scene crosses 20 cells (0.5 s at 2.01 m/s, h = 0.05 m)")};
   };
   return vc;
 }
@@ -73,12 +90,15 @@ VerificationCase rigid_rotation() {
   VerificationCase vc;
   vc.name = "rigid_rotation";
   vc.description = "A neo-Hookean disc released spinning at 1 rad/s turns half a revolution: "
-                   "stress stays at the physical centrifugal level, far below E.";
+                   "stress stays at the physical centrifugal level (APIC), far below E (APIC and "
+                   "FLIP).";
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
-    const CaseSpec spec = load_verification_case(ctx);
+    // 100 frames over the half turn, so that the largest stress samples the oscillation.
+    const std::string frames = fmt::format("output.every_time={:.17g}", std::numbers::pi / 100);
+    const CaseSpec spec = load_verification_case(ctx, {frames});
     run_quiet(spec, ctx.out_dir / "apic", ctx.threads);
-    const CaseSpec flip_spec = load_verification_case(ctx, {"solver.transfer=flip"});
+    const CaseSpec flip_spec = load_verification_case(ctx, {frames, "solver.transfer=flip"});
     run_quiet(flip_spec, ctx.out_dir / "flip", ctx.threads);
     const auto& m = spec.materials[0];
     const auto& b = spec.bodies[0];
@@ -87,12 +107,17 @@ VerificationCase rigid_rotation() {
     const double apic = max_stress_over_frames(ResultsReader(ctx.out_dir / "apic" / "run.h5"));
     const double flip = max_stress_over_frames(ResultsReader(ctx.out_dir / "flip" / "run.h5"));
     return std::vector<Check>{
-        bound_check("APIC: max |sigma| / static centrifugal", apic / centrifugal, 4.0,
-                    "fundamental-mode overshoot 2, higher modes on top"),
+        within_check("APIC: max |sigma| / static centrifugal", apic / centrifugal, 1.0, 4.0,
+                     "oscillation about the static state: reaches it, overshoot 2 + higher modes"),
         report_only("APIC: max |sigma| / E", apic / m.youngs_modulus,
                     "a non-objective update would reach ~2"),
-        report_only("FLIP: max |sigma| / static centrifugal", flip / centrifugal,
-                    "FLIP projects the spin inexactly at the edge"),
+        at_most_check("FLIP: max |sigma| / E", flip / m.youngs_modulus, 1e-2,
+                      "objective: 2.8x the measured 3.6e-3, against ~2 non-objectively"),
+        known_failure(within_check("FLIP: max |sigma| / static centrifugal", flip / centrifugal,
+                                   1.0, 4.0, "the bound APIC meets"),
+                      "FLIP projects a spin inexactly at the body's edge (the node velocity "
+                      "belongs to the points' centroid), which strains the edge; use APIC for "
+                      "spinning bodies"),
         report_only("rotation angle (rad)", b.angular_velocity * spec.time.end_time)};
   };
   return vc;

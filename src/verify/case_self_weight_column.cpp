@@ -2,8 +2,11 @@
 // steps. Rollers on both sides and the base make the exact solution one-dimensional:
 // sigma_yy(Y) = -rho g (H - Y) in the initial coordinate Y. The measure is the volume-weighted
 // relative L2 error of the raw particle stress sigma_yy at H/8, H/16 and H/32 with GIMP.
-// The issue asks for the error to be reported and to fall under refinement; both ratios
-// must be below 1, and the observed orders are reported.
+// The displacement is quadratic in Y and the stress is read from the gradients of the
+// interpolated field, which are constant along a cell's height for the linear-hat part of
+// GIMP: the raw stress converges at first order. Checks: the observed order of each
+// refinement in [0.8, 1.2] (measured 1.003 and 1.006: the asymptotic regime starts at H/8),
+// and the error at H/32 at most 3 % (2.2x the measured 1.34 %).
 #include "cases.hpp"
 
 #include <cmath>
@@ -51,14 +54,16 @@ VerificationCase self_weight_column() {
       const auto dir = ctx.out_dir / fmt::format("cells{}", n);
       run_quiet(spec, dir, ctx.threads);
       errors.push_back(stress_error(ResultsReader(dir / "run.h5")));
-      checks.push_back(report_only(fmt::format("L2 error sigma_yy, H/{}", n), errors.back(),
-                                   "volume-weighted, relative"));
+      const std::string quantity = fmt::format("L2 error sigma_yy, H/{}", n);
+      checks.push_back(n == cells.back()
+                           ? at_most_check(quantity, errors.back(), 0.03,
+                                           "volume-weighted, relative; 2.2x the measured 1.34 %")
+                           : report_only(quantity, errors.back(), "volume-weighted, relative"));
     }
     for (std::size_t i = 1; i < errors.size(); ++i)
-      checks.push_back(bound_check(
-          fmt::format("error ratio H/{} to H/{}", cells[i], cells[i - 1]),
-          errors[i] / errors[i - 1], 1.0,
-          fmt::format("observed order {:.2f}; must fall", std::log2(errors[i - 1] / errors[i]))));
+      checks.push_back(within_check(
+          fmt::format("observed order H/{} to H/{}", cells[i - 1], cells[i]),
+          observed_order(errors[i - 1], errors[i]), 0.8, 1.2, "theory 1 (raw point stress)"));
     return checks;
   };
   return vc;

@@ -8,11 +8,14 @@
 //    cell edge changes them by O(dt v_t / h) per step and adds no jump; at rest the error is the
 //    bar's discretisation error (phase error w t (pi h / L)^2 / 24 ~ 1e-3 plus the O(h^2) stress
 //    sampling error at the points). We require the translating GIMP error to stay below 2 % of
-//    the amplitude and within twice its own at-rest error; both are loose enough for the
-//    quadrature error of points that now sit at every position within a cell, and a
-//    discontinuous-gradient scheme fails them by an order of magnitude.
-//  * Linear hats are reported, not bounded: their gradient jumps by 1/h as a point crosses a
-//    node, which is the noise the issue asks to quantify.
+//    the amplitude (2.3x the measured 0.86 %) and at most 1.2x its own at-rest error (2x the
+//    measured ratio 0.61: translating, the points sample every position within a cell and
+//    their quadrature errors average out); a discontinuous-gradient scheme fails both by an
+//    order of magnitude.
+//  * Linear hats: their gradient jumps by 1/h as a point crosses a node, which is the noise the
+//    issue asks to quantify; the errors are reported, and as a control the translating error
+//    must be at least 10x the one at rest (measured 48x): the bar really crosses cells, so the
+//    GIMP bounds above test what they claim.
 #include "cases.hpp"
 #include "histories.hpp"
 
@@ -82,14 +85,16 @@ VerificationCase stability_cell_crossing() {
       checks.push_back(report_only(shape + ": stress error at rest", errors[0],
                                    "RMS over points and frames / rho c v0"));
       if (shape == "gimp") {
-        checks.push_back(bound_check("gimp: stress error translating", errors[1], 0.02,
-                                     "32 cells crossed; continuous gradients"));
-        checks.push_back(bound_check("gimp: error translating / at rest", errors[1] / errors[0],
-                                     2.0, "crossing adds no jump"));
+        checks.push_back(at_most_check("gimp: stress error translating", errors[1], 0.02,
+                                       "32 cells crossed; continuous gradients"));
+        checks.push_back(at_most_check("gimp: error translating / at rest", errors[1] / errors[0],
+                                       1.2, "crossing adds no jump"));
       } else {
         checks.push_back(report_only("linear: stress error translating", errors[1],
                                      "gradient jumps at every crossing"));
-        checks.push_back(report_only("linear: error translating / at rest", errors[1] / errors[0]));
+        checks.push_back(at_least_check("linear: error translating / at rest",
+                                        errors[1] / errors[0], 10.0,
+                                        "control: the bar crosses cells and jumps show"));
       }
     }
     plot.write(ctx.out_dir, "stability_cell_crossing",

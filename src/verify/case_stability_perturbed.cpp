@@ -11,9 +11,10 @@
 //    a = 0.25 the change is reported: 0.6 - 1.5 % (six times a = 0.1, the a^2 law), more than
 //    that tolerance;
 //  * vibrating bar (explicit, 32 cells): the increase of the RMS centre-of-mass velocity error
-//    over the regular lattice's, averaged over the seeds, grows with an observed order in a of
-//    at least 1.5 between a = 0.1 and 0.25 (theory 2). The errors themselves are reported: the
-//    bar is one cell high, so a point's jitter is a large fraction of its cell's quadrature.
+//    over the regular lattice's, averaged over the seeds, grows with an observed order in a in
+//    [1.5, 2.5] between a = 0.1 and 0.25 (theory 2; measured 1.67). The errors themselves are
+//    reported: the bar is one cell high, so a point's jitter is a large fraction of its cell's
+//    quadrature.
 #include "cases.hpp"
 #include "histories.hpp"
 #include "references.hpp"
@@ -111,11 +112,11 @@ VerificationCase stability_perturbed() {
         excess[k] += (bar - regular_bar) / kSeeds;
       }
     }
-    checks.push_back(minimum_check("bar error increase: observed order in the jitter",
-                                   std::log(excess[1] / excess[0]) / std::log(2.5), 1.5,
-                                   fmt::format("mean increase {:.3g} at 0.1, {:.3g} at 0.25; "
-                                               "theory 2",
-                                               excess[0], excess[1])));
+    checks.push_back(within_check("bar error increase: observed order in the jitter",
+                                  std::log(excess[1] / excess[0]) / std::log(2.5), 1.5, 2.5,
+                                  fmt::format("mean increase {:.3g} at 0.1, {:.3g} at 0.25; "
+                                              "theory 2",
+                                              excess[0], excess[1])));
     plot.write(ctx.out_dir, "stability_perturbed", "Jittered points: vibrating bar, 32 cells");
     return checks;
   };

@@ -1,16 +1,23 @@
 // Large rotation: the rigid-rotation disc (verification/rigid_rotation.yaml: neo-Hookean, APIC,
 // GIMP, R = 0.2 m, rho = 20) spun at one revolution per second for ten revolutions, with
 // E = 2e3 Pa and cells of 0.05 m (200 points) so that the run stays short (c_p = 12 m/s, 4600
-// steps; the centrifugal strain stays below 1 %). Objectivity: the only stress is the
-// physical centrifugal one, static value (3 + nu) / 8 rho omega^2 R^2 = 13 Pa at the centre; a
-// sudden release makes the fundamental mode overshoot to twice that, so the bound is 4x (as in
-// the rigid_rotation case), while a non-objective update would reach E (1 - cos theta) ~ 2e3 Pa
-// within a quarter turn. Energy bounded: the kinetic energy of the spin may only decay, never
-// grow by more than the 1 %. Both transfers run: APIC (the scene's) and FLIP. Measured:
-// FLIP keeps the energy bounded (it loses most of the angular momentum at the disc's edge);
-// APIC, once MUSL's remap anchored its affine field at the start-of-step positions, stays at
-// 1.7x the centrifugal stress with no energy growth, but its disc still spreads and slows
-// (docs/architecture.md, "Long spins").
+// steps; the centrifugal strain stays below 1 %). Both transfers run: APIC (the scene's) and
+// FLIP (pure, flip = 1).
+//  * Objectivity: the only stress is the physical centrifugal one, static value
+//    (3 + nu) / 8 rho omega^2 R^2 = 13 Pa at the centre, about which the suddenly released disc
+//    oscillates between 0 and twice it: the largest stress over 40 frames must lie in [1, 4]x
+//    that (as in the rigid_rotation case), while a non-objective update would reach
+//    E (1 - cos theta) ~ 2e3 Pa within a quarter turn. APIC meets it (measured 2.0x); FLIP does
+//    not (27x: its projection of a spin is inexact at the disc's edge), a known failure.
+//  * Energy: an elastic spinning disc keeps its energy. No growth above 0.5 % (measured APIC
+//    0.14 %, FLIP 0.11 %). The loss is bounded too: APIC within 1.5 % over the ten turns
+//    (measured 0.42 %, 3.5x; it was 40 % while its F increment ignored the points' spread, see
+//    solver/explicit_solver.cpp); FLIP, whose transfers dissipate at the edge, must keep at
+//    least 70 % (measured 85 %: 2x the measured loss).
+//  * Angular momentum: APIC's transfers conserve the total angular momentum, points' and affine
+//    part; the points' part L = sum m (x - c) x v, the only one in the output, moves only with
+//    the affine share as the spin changes: L(end)/L(0) within 1e-3 of 1 (measured 1 + 2.8e-4).
+//    FLIP's transfers do not conserve it (Jiang et al. 2015): reported (measured 0.17).
 #include "cases.hpp"
 #include "histories.hpp"
 
@@ -93,22 +100,28 @@ VerificationCase stability_rotation() {
       const auto& energy = series.column("total_energy");
       plot.add_column("E(t) / E(0) - 1", label, series, "total_energy", true);
       const double peak = *std::max_element(energy.begin(), energy.end());
-      // FLIP projects a spin inexactly at the disc's edge, which shows up as stress: reported,
-      // as in the rigid_rotation case; APIC transfers the spin exactly and is bounded.
-      const std::string stress_label = label + ": max |sigma| / static centrifugal";
-      checks.push_back(transfer == "apic"
-                           ? bound_check(stress_label, worst / centrifugal, 4.0,
-                                         "fundamental-mode overshoot 2, higher modes on top")
-                           : report_only(stress_label, worst / centrifugal,
-                                         "FLIP's inexact projection of the spin at the edge"));
-      checks.push_back(bound_check(label + ": max E(t)/E(0) - 1", peak / energy.front() - 1.0, 0.01,
-                                   "no energy growth"));
-      checks.push_back(
-          report_only(label + ": E(end)/E(0) - 1", energy.back() / energy.front() - 1.0));
-      checks.push_back(report_only(label + ": angular momentum L(end)/L(0)",
-                                   angular_momentum(results, results.frame_count() - 1) /
-                                       angular_momentum(results, 0),
-                                   "of the points' velocities (APIC's affine part not included)"));
+      const bool apic = transfer == "apic";
+      const Check stress_check =
+          within_check(label + ": max |sigma| / static centrifugal", worst / centrifugal, 1.0, 4.0,
+                       "oscillation about the static state");
+      checks.push_back(apic ? stress_check
+                            : known_failure(stress_check,
+                                            "FLIP projects a spin inexactly at the body's edge, "
+                                            "which strains the edge"));
+      checks.push_back(at_most_check(label + ": max E(t)/E(0) - 1", peak / energy.front() - 1.0,
+                                     0.005, "no energy growth"));
+      const double change = energy.back() / energy.front() - 1.0;
+      checks.push_back(apic ? within_check(label + ": E(end)/E(0) - 1", change, -0.015, 0.005,
+                                           "an elastic spin keeps its energy; 3.5x measured")
+                            : within_check(label + ": E(end)/E(0) - 1", change, -0.3, 0.005,
+                                           "FLIP's transfers dissipate: 2x the measured loss"));
+      const double momentum =
+          angular_momentum(results, results.frame_count() - 1) / angular_momentum(results, 0);
+      checks.push_back(apic
+                           ? within_check(label + ": angular momentum L(end)/L(0)", momentum, 0.999,
+                                          1.001, "points' part; conserved up to the affine share")
+                           : report_only(label + ": angular momentum L(end)/L(0)", momentum,
+                                         "FLIP's transfers do not conserve it"));
     }
     plot.write(ctx.out_dir, "stability_rotation", "Spinning disc, 10 revolutions");
     checks.push_back(report_only("revolutions", kRevolutions));

@@ -5,7 +5,9 @@
 //    and with GIMP (offset 2e-4: the point domains reach 1e-4 h into the next cells, weight
 //    1e-8), both under MUSL (the default). No blow-up: the runs complete, and the peak energy
 //    exceeds that of the same points shifted so that no node is barely touched (linear: offset
-//    -0.4, weight 5e-2; GIMP: the regular lattice) by less than 1 % of E(0). Both runs show the
+//    -0.4, weight 5e-2; GIMP: the regular lattice) by at most 2e-3 of E(0) either way (3.5x the
+//    measured 5.7e-4 of linear hats; GIMP 1.3e-6): a tiny-mass node that adds energy, or one
+//    that damps the block, fails. Both runs show the
 //    same per-step oscillation of ~omega dt / 2 from the half-step staggering of kinetic and
 //    strain energy (see stability_explicit_cfl), with slightly different phases (the points sit
 //    differently in their cells), so peaks are compared, not histories; a tiny-mass node whose
@@ -17,8 +19,10 @@
 //  * Implicit: the verification cantilever (8 cells through the depth, GIMP, linear elastic,
 //    P = 1) with the tip column and top row reaching 1e-4 h (weights 1e-8, kept and regularised by
 //    the ghost penalty) and 1e-6 h (weights 1e-12, below the solver's 1e-10 cut, removed) past a
-//    node line. Newton must converge in one load step and the tip deflection must stay within
-//    the cantilever verification's 1 % of Timoshenko-Goodier.
+//    node line. Newton must converge in at most 2 iterations (the problem is linear up to the
+//    geometric terms of a 1e-3 rotation: measured 1; an ill-conditioned solve needs more) and
+//    the tip deflection must stay within the cantilever verification's 0.2 % of
+//    Timoshenko-Goodier (measured 0.06 %, the regular lattice's error).
 #include "cases.hpp"
 #include "histories.hpp"
 #include "references.hpp"
@@ -74,10 +78,10 @@ VerificationCase stability_tiny_mass() {
         const bool stopped_clearly = r.exit_code == kExitNumerical &&
                                      r.message.find("state guard") != std::string::npos &&
                                      r.message.find("particle") != std::string::npos;
-        checks.push_back(
-            minimum_check(fmt::format("explicit {}: completed or stopped by the guard", e.label),
-                          (r.exit_code == 0 || stopped_clearly) ? 1.0 : 0.0, 1.0,
-                          r.exit_code == 0 ? "completed" : r.message.substr(0, 200)));
+        checks.push_back(holds_check(fmt::format("explicit {}: stopped by the guard", e.label),
+                                     stopped_clearly,
+                                     r.exit_code == 0 ? "completed: the tiny-mass node went unseen"
+                                                      : r.message.substr(0, 200)));
         checks.push_back(report_only(fmt::format("explicit {}: steps before the stop", e.label),
                                      static_cast<double>(r.steps), "known limit of linear hats"));
         continue;
@@ -92,10 +96,10 @@ VerificationCase stability_tiny_mass() {
       const CsvTable series = read_csv(dir / "timeseries.csv");
       const CsvTable regular = read_csv(std::filesystem::path(regular_dir) / "timeseries.csv");
       checks.push_back(
-          bound_check(fmt::format("explicit {}: peak E/E(0), tiny-mass - regular", e.label),
-                      peak_growth(series) - peak_growth(regular), 0.01,
-                      fmt::format("completed; peak E/E(0) - 1 = {:.4g} against {:.4g}",
-                                  peak_growth(series), peak_growth(regular))));
+          within_check(fmt::format("explicit {}: peak E/E(0), tiny-mass - regular", e.label),
+                       peak_growth(series) - peak_growth(regular), -2e-3, 2e-3,
+                       fmt::format("completed; peak E/E(0) - 1 = {:.4g} against {:.4g}",
+                                   peak_growth(series), peak_growth(regular))));
       plot.add_column("explicit block: E(t) / E(0) - 1", e.label, series, "total_energy", true);
       plot.add_column("explicit block: E(t) / E(0) - 1", std::string(e.label) + ", regular",
                       regular, "total_energy", true);
@@ -114,10 +118,10 @@ VerificationCase stability_tiny_mass() {
       const std::string at =
           fmt::format("implicit, reach {:g} h (weight {:g})", reach, reach * reach);
       checks.push_back(relative_check(at + ": tip deflection", u.y(),
-                                      references::cantilever_deflection(x, 1.0), 0.01,
+                                      references::cantilever_deflection(x, 1.0), 0.002,
                                       "Timoshenko-Goodier, as the cantilever case"));
-      checks.push_back(bound_check(at + ": Newton iterations", r.extra.at("newton_iterations"), 3.0,
-                                   "linear problem: one iteration plus the check"));
+      checks.push_back(at_most_check(at + ": Newton iterations", r.extra.at("newton_iterations"),
+                                     2.0, "nearly linear problem: one iteration (measured)"));
     }
     plot.write(ctx.out_dir, "stability_tiny_mass", "Tiny-mass nodes");
     return checks;

@@ -6,9 +6,12 @@
 // and the scheme is second order in h at a fixed CFL number. A priori: the grid's frequency
 // error (b1 h)^2 / 24 turns into a phase error growing like omega t, whose RMS over two periods
 // at 64 cells is omega T (b1 h)^2 / (24 sqrt 6) = 1.3e-4. Tolerances:
-//  * observed order between successive refinements >= 1.5 (theory: 2);
-//  * error at the finest fast-tier grid (64 cells) <= 1e-3. A first-order defect, such as
-//    reading the half-step velocity at the full step (omega dt / 2 ~ 3.5e-3), fails it.
+//  * observed order between successive refinements in [1.5, 2.5] (theory 2; measured 1.89 to
+//    1.97, the pre-asymptotic 16-cell grid included): a first-order defect gives 1, an error
+//    that stops falling 0;
+//  * error at the finest fast-tier grid (64 cells) <= 1e-3, 2.3x the measured 4.3e-4. A
+//    first-order defect, such as reading the half-step velocity at the full step
+//    (omega dt / 2 ~ 3.5e-3), fails it.
 #include "cases.hpp"
 #include "references.hpp"
 
@@ -51,26 +54,32 @@ VerificationCase vibrating_bar() {
       checks.push_back(report_only(fmt::format("rms v_cm error, {} cells", cells[i]), errors[i],
                                    "relative to the amplitude v0/(b1 L)"));
     for (std::size_t i = 1; i < cells.size(); ++i) {
-      const double order = std::log2(errors[i - 1] / errors[i]);
+      const double order = observed_order(errors[i - 1], errors[i]);
       checks.push_back(
-          minimum_check(fmt::format("observed order {}->{} cells", cells[i - 1], cells[i]), order,
-                        1.5, "log2 of the error ratio; theory 2"));
+          within_check(fmt::format("observed order {}->{} cells", cells[i - 1], cells[i]), order,
+                       1.5, 2.5, "log2 of the error ratio; theory 2"));
     }
     const auto finest = std::find(cells.begin(), cells.end(), 64) - cells.begin();
-    checks.push_back(bound_check("rms v_cm error, 64 cells",
-                                 errors[static_cast<std::size_t>(finest)], 1e-3,
-                                 "a priori dispersion estimate 1.3e-4; first-order defects fail"));
+    checks.push_back(at_most_check("rms v_cm error, 64 cells",
+                                   errors[static_cast<std::size_t>(finest)], 1e-3,
+                                   "2.3x the measured 4.3e-4; first-order defects (3.5e-3) fail"));
     return checks;
   };
   return vc;
 }
 
 // The same bar with implicit Newmark dynamics (beta = 1/4, gamma = 1/2) at a time step ten
-// times the explicit stability limit h / c (64 cells). The trapezoidal rule's period
-// elongation is (omega dt)^2 / 12 = 0.5 % here, inside the 1 % bound on the period
-// measured from the zero crossings of v_cm. It conserves the energy of a linear system, so the
-// energy must not grow: E(end) <= E(0) (1 + 1e-9), with transient excursions of the particle
-// representation reported.
+// times the explicit stability limit h / c (64 cells). The period, measured from the zero
+// crossings of v_cm, is compared with the period the trapezoidal rule gives the grid's first
+// mode, independently of the run: tan(omega_n dt / 2) = omega_h dt / 2, where omega_h =
+// omega1 (1 - (b1 h)^2 / 24) is the lumped-mass grid's frequency. That prediction is 0.50 %
+// above 4L/c; the measured period lies 1.3e-4 above the prediction (the linear interpolation of
+// the zero crossings), so the tolerance is 5e-4 (4x): an integrator with another period
+// elongation (any other Newmark beta, or the exact period 4L/c, 5e-3 away) fails.
+// The rule conserves the energy of the linear grid system, so the energy must not grow:
+// E(end) <= E(0) (1 + 1e-9); what is lost is the points' FLIP update from the grid, measured
+// 3.1e-4 over the run, bounded at 1e-3 (3x) so that any damping in the integrator (Newmark
+// with gamma > 1/2 loses percents) fails.
 VerificationCase vibrating_bar_implicit() {
   VerificationCase vc;
   vc.name = "vibrating_bar_implicit";
@@ -105,10 +114,16 @@ VerificationCase vibrating_bar_implicit() {
     double peak = energy.front();
     for (double e : energy)
       peak = std::max(peak, e);
+    const double b1h = std::numbers::pi / (2.0 * kBarLength) * h;
+    const double omega_grid = 2.0 * std::numbers::pi / exact * (1.0 - b1h * b1h / 24.0);
+    const double trapezoidal_period =
+        2.0 * std::numbers::pi / (2.0 / dt * std::atan(0.5 * omega_grid * dt));
     return std::vector<Check>{
-        relative_check("period", period, exact, 0.01, "from zero crossings of v_cm; 4L/c = 10 s"),
-        bound_check("energy growth E(end)/E(0) - 1", energy.back() / energy.front() - 1.0, 1e-9,
-                    "Newmark conserves energy; no growth allowed"),
+        relative_check("period / trapezoidal-rule period", period, trapezoidal_period, 5e-4,
+                       fmt::format("zero crossings of v_cm; {:.4f} % above 4L/c = 10 s",
+                                   100.0 * (period / exact - 1.0))),
+        within_check("energy change E(end)/E(0) - 1", energy.back() / energy.front() - 1.0, -1e-3,
+                     1e-9, "no growth; FLIP's loss measured 3.1e-4"),
         report_only("peak transient E/E(0) - 1", peak / energy.front() - 1.0,
                     "particle representation of the grid energy"),
         report_only("time step / explicit limit h/c", dt / (h / c))};

@@ -1,43 +1,18 @@
 #include "talus/verify/verification.hpp"
 
 #include "cases.hpp"
+#include "report.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <fmt/format.h>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
 namespace talus {
 
 namespace fs = std::filesystem;
-
-Check relative_check(std::string quantity, double measured, double reference, double tolerance,
-                     std::string note) {
-  Check c{std::move(quantity), measured, reference, 0.0, tolerance, false, std::move(note)};
-  c.error = std::abs(measured - reference) / std::abs(reference);
-  c.passed = c.error <= tolerance;
-  return c;
-}
-
-Check bound_check(std::string quantity, double measured, double bound, std::string note) {
-  Check c{std::move(quantity), measured, 0.0, measured, bound, false, std::move(note)};
-  c.passed = std::isfinite(measured) && measured <= bound;
-  return c;
-}
-
-Check minimum_check(std::string quantity, double measured, double minimum, std::string note) {
-  Check c{std::move(quantity), measured, NAN, measured, minimum, false, std::move(note), true};
-  c.passed = std::isfinite(measured) && measured >= minimum;
-  return c;
-}
-
-Check report_only(std::string quantity, double measured, std::string note) {
-  return Check{std::move(quantity), measured, NAN, NAN, NAN, true, std::move(note)};
-}
 
 const std::vector<VerificationCase>& verification_cases() {
   static const std::vector<VerificationCase> cases = {verify_cases::vibrating_bar(),
@@ -75,82 +50,12 @@ CaseSpec load_verification_case(const VerificationContext& ctx,
   return read_case_file(ctx.case_file.string(), overrides);
 }
 
-namespace {
-
-struct CaseOutcome {
-  const VerificationCase* vcase;
-  std::vector<Check> checks;
-  double wall_seconds;
-};
-
-std::string tolerance_text(const Check& c) {
-  if (std::isnan(c.tolerance))
-    return "-";
-  return (c.at_least ? ">= " : "") + fmt::format("{:.4g}", c.tolerance);
-}
-
-std::string number(double v) {
-  if (std::isnan(v))
-    return "-";
-  return fmt::format("{:.4g}", v);
-}
-
-void print_table(const std::vector<CaseOutcome>& outcomes) {
-  fmt::print("{:<20} {:<44} {:>11} {:>11} {:>10} {:>10}  {}\n", "case", "quantity", "measured",
-             "reference", "error", "tolerance", "result");
-  fmt::print("{}\n", std::string(118, '-'));
-  for (const auto& o : outcomes)
-    for (const auto& c : o.checks)
-      fmt::print("{:<20} {:<44} {:>11} {:>11} {:>10} {:>10}  {}\n", o.vcase->name, c.quantity,
-                 number(c.measured), number(c.reference), number(c.error), tolerance_text(c),
-                 std::isnan(c.tolerance) ? "report" : (c.passed ? "PASS" : "FAIL"));
-}
-
-void write_reports(const fs::path& dir, const std::string& tier,
-                   const std::vector<CaseOutcome>& outcomes, bool all_passed) {
-  nlohmann::json list = nlohmann::json::array();
-  std::ofstream md(dir / "report.md");
-  md << "# Talus verification report (tier " << tier << ")\n\n"
-     << "Overall: " << (all_passed ? "**PASS**" : "**FAIL**") << "\n\n";
-  for (const auto& o : outcomes) {
-    md << "## " << o.vcase->name << "\n\n"
-       << o.vcase->description << "\n\n"
-       << fmt::format("Wall time: {:.2f} s\n\n", o.wall_seconds)
-       << "| quantity | measured | reference | error | tolerance | result | note |\n"
-       << "|---|---|---|---|---|---|---|\n";
-    for (const auto& c : o.checks) {
-      md << fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", c.quantity, number(c.measured),
-                        number(c.reference), number(c.error), tolerance_text(c),
-                        std::isnan(c.tolerance) ? "report" : (c.passed ? "PASS" : "FAIL"), c.note);
-      auto finite_or_null = [](double v) -> nlohmann::json {
-        return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-      };
-      list.push_back({{"case", o.vcase->name},
-                      {"quantity", c.quantity},
-                      {"measured", finite_or_null(c.measured)},
-                      {"reference", finite_or_null(c.reference)},
-                      {"error", finite_or_null(c.error)},
-                      {"tolerance", finite_or_null(c.tolerance)},
-                      {"passed", c.passed},
-                      {"tolerance_is_minimum", c.at_least},
-                      {"note", c.note},
-                      {"wall_seconds", o.wall_seconds}});
-    }
-    md << "\n";
-    for (const auto& png : {o.vcase->name + ".png"})
-      if (fs::exists(dir / o.vcase->name / png))
-        md << "![" << o.vcase->name << "](" << o.vcase->name << "/" << png << ")\n\n";
-  }
-  std::ofstream(dir / "report.json") << list.dump(2) << "\n";
-}
-
-} // namespace
+using verify_report::CaseOutcome;
 
 int run_verification(const VerifyOptions& options) {
   const fs::path out = options.out_dir;
   fs::create_directories(out);
   std::vector<CaseOutcome> outcomes;
-  bool all_passed = true;
   bool crashed = false;
   for (const auto& vc : verification_cases()) {
     const bool in_tier =
@@ -174,25 +79,24 @@ int run_verification(const VerifyOptions& options) {
     try {
       outcome.checks = vc.run(ctx);
     } catch (const std::exception& e) {
-      outcome.checks.push_back(Check{"case ran to completion", NAN, NAN, NAN, 0.0, false,
-                                     std::string("error: ") + e.what()});
+      outcome.checks.push_back(
+          holds_check("case ran to completion", false, std::string("error: ") + e.what()));
       crashed = true;
     }
     outcome.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (const auto& c : outcome.checks)
-      all_passed = all_passed && c.passed;
     outcomes.push_back(std::move(outcome));
   }
   if (outcomes.empty())
     throw InputError({"--case", 0, 0, ""}, "no verification case matches the selection");
-  print_table(outcomes);
-  write_reports(out, options.tier, outcomes, all_passed);
-  fmt::print("\n{} — report: {}\n", all_passed ? "ALL PASSED" : "SOME CHECKS FAILED",
-             (out / "report.md").string());
+  verify_report::print_table(outcomes);
+  verify_report::write_reports(out, options.tier, outcomes);
+  const verify_report::Tally t = verify_report::tally(outcomes);
+  fmt::print("\n{}: {} — report: {}\n", t.all_held() ? "PASSED" : "FAILED",
+             verify_report::summary_line(t), (out / "report.md").string());
   if (crashed)
     return kExitOther;
-  return all_passed ? kExitOk : kExitNumerical;
+  return t.all_held() ? kExitOk : kExitNumerical;
 }
 
 } // namespace talus
