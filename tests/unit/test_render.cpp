@@ -1,7 +1,9 @@
 // `talus render` end to end: a short run of the talk's colliding discs with voxels, then the
-// real binary draws it. Good requests write PNG files (checked by their signature); bad ones
-// (a missing file, field, frame, component, or voxels that were never written) exit with 2, a
-// message naming the option, and no picture.
+// real binary draws it. Good requests write PNG files, checked by their signature and by what
+// they show (tests/python/check_png.py: the checker's two colours in equal shares, a field's
+// colour map, points drawn, frames that differ as the discs move); bad ones (a missing file, field,
+// frame, component, or voxels that were never written) exit with 2, a message naming the option,
+// and no picture.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -11,6 +13,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -58,6 +61,14 @@ protected:
     in.read(signature, 8);
     return in && std::string(signature, 8) == "\x89PNG\r\n\x1a\n";
   }
+  /// tests/python/check_png.py MODE FILES... passes (the picture shows what it should).
+  static bool picture_holds(const std::string& mode, const std::vector<fs::path>& files) {
+    std::string command =
+        "/usr/bin/python3 '" + std::string(TALUS_TESTS_DIR) + "/python/check_png.py' " + mode;
+    for (const auto& f : files)
+      command += " '" + f.string() + "'";
+    return std::system(command.c_str()) == 0;
+  }
   static fs::path dir_;
 };
 fs::path Render::dir_;
@@ -69,11 +80,13 @@ TEST_F(Render, DrawsVoxelsByFieldAndByPattern) {
           .exit_code,
       0);
   EXPECT_TRUE(is_png(field));
+  EXPECT_TRUE(picture_holds("field", {field}));
   EXPECT_EQ(
       talus("render " + h5("voxels") + " --pattern checker --frame 1 -o '" + pattern.string() + "'")
           .exit_code,
       0);
   EXPECT_TRUE(is_png(pattern));
+  EXPECT_TRUE(picture_holds("pattern", {pattern}));
 }
 
 TEST_F(Render, FrameAllWritesANumberedSequence) {
@@ -82,8 +95,13 @@ TEST_F(Render, FrameAllWritesANumberedSequence) {
                   out.string() + "'")
                 .exit_code,
             0);
-  for (const char* name : {"v_000000.png", "v_000001.png", "v_000002.png"})
+  for (const char* name : {"v_000000.png", "v_000001.png", "v_000002.png"}) {
     EXPECT_TRUE(is_png(out.parent_path() / name)) << name;
+    EXPECT_TRUE(picture_holds("drawn", {out.parent_path() / name})) << name;
+  }
+  // The discs move between the frames (0.025 m, a cell, at 5 m/s over 0.005 s).
+  EXPECT_TRUE(picture_holds(
+      "differ", {out.parent_path() / "v_000000.png", out.parent_path() / "v_000002.png"}));
   EXPECT_FALSE(fs::exists(out.parent_path() / "v_000003.png"));
 }
 
