@@ -730,4 +730,26 @@ TEST_F(Cli, CliShippedCaseRuns) {
   EXPECT_LE(stress, 5e-9);
 }
 
+// A known failure is shown as KNOWN FAIL with its defect and does not fail `talus verify`
+// (rigid_rotation's FLIP row: FLIP's projection of a spin strains the disc's edge).
+TEST_F(Cli, VerifyShowsAKnownFailureWithoutFailing) {
+  const Outcome r = talus({"verify", "--case", "rigid_rotation", "--out", "verify"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.out.find("KNOWN FAIL"), std::string::npos) << r.describe();
+  EXPECT_NE(r.out.find("1 known failure"), std::string::npos) << r.describe();
+  const nlohmann::json report = read_json(work() / "verify" / "report.json");
+  int known = 0;
+  for (const auto& row : report) {
+    if (row.at("result") == "KNOWN FAIL") {
+      ++known;
+      EXPECT_FALSE(row.at("passed").get<bool>());
+      EXPECT_FALSE(row.at("known_defect").get<std::string>().empty());
+      EXPECT_EQ(row.at("acceptance"), "within");
+    } else if (row.at("result") != "report") {
+      EXPECT_EQ(row.at("result"), "PASS") << row.dump();
+    }
+  }
+  EXPECT_EQ(known, 1);
+}
+
 } // namespace
