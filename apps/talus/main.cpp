@@ -3,6 +3,7 @@
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/io/case_vocabulary.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/post/render.hpp"
 #include "talus/solver/run.hpp"
@@ -25,17 +26,27 @@ namespace {
 using namespace talus;
 
 int print_info() {
+  // Every enumerated word of a case file comes from the tables the reader validates against
+  // (talus/io/case_vocabulary.hpp), so this list cannot go stale.
+  const auto words = [](const std::vector<std::string>& names) {
+    return fmt::format("{}", fmt::join(names, ", "));
+  };
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
   fmt::print("dimension       2 (plane strain)\n");
-  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC or APIC), implicit_quasistatic, "
-             "implicit_dynamic\n");
-  fmt::print("shape functions linear, gimp (uGIMP)\n");
-  fmt::print("materials       linear_elastic, neo_hookean, hencky\n");
+  fmt::print("analyses        {}\n", words(choice_names(analysis_choices())));
+  fmt::print("explicit scheme {}\n", words(choice_names(update_scheme_choices())));
+  fmt::print("transfers       {} (solver.flip blends FLIP and PIC)\n",
+             words(choice_names(transfer_scheme_choices())));
+  fmt::print("shape functions {}\n", words(choice_names(shape_function_choices())));
+  fmt::print("elastic models  {}\n", words(material_model_names(false)));
+  fmt::print("plastic models  {}\n", words(material_model_names(true)));
+  fmt::print("body shapes     {}\n", words(choice_names(body_shape_choices())));
+  fmt::print("output fields   {}\n", words(choice_names(output_field_choices())));
   const char* wait_policy = std::getenv("OMP_WAIT_POLICY");
   fmt::print("OpenMP threads  {} available, waiting {}\n", omp_get_max_threads(),
              wait_policy != nullptr ? wait_policy : "(libgomp default: spinning)");
-  fmt::print("linear solvers  {}\n", fmt::join(available_linear_solvers(), ", "));
+  fmt::print("linear solvers  {}\n", words(available_linear_solvers()));
   fmt::print("Newton driver   SUNDIALS KINSOL {}\n", TALUS_SUNDIALS_VERSION);
   fmt::print("results         HDF5 + XDMF (ParaView), CSV, JSON\n");
   fmt::print("data directory  {}\n", verification_dir().parent_path().string());
