@@ -1,7 +1,9 @@
-// talus: the command-line front end. Sub-commands: run, fos, adapt, verify, bench, render, info.
+// talus: the command-line front end. Sub-commands: run, fos, adapt, check, verify, bench, render,
+// info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
+#include "talus/core/memory_estimate.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/case_vocabulary.hpp"
 #include "talus/linalg/linear_solver.hpp"
@@ -53,9 +55,44 @@ int print_info() {
   return kExitOk;
 }
 
+/// The estimate against what the machine has free right now: a case that fits in the machine
+/// but not in its available memory may still run (the kernel reclaims caches), but the user
+/// should know before a long run starts.
+void warn_if_memory_is_short(const CaseSpec& spec) {
+  const MemoryEstimate estimate = estimate_memory(spec);
+  const MachineMemory machine = machine_memory();
+  if (estimate.total_bytes > machine.available_bytes)
+    fmt::print(stderr,
+               "talus: warning: the case needs about {}, more than the {} available now "
+               "(MemAvailable of /proc/meminfo)\n",
+               format_bytes(estimate.total_bytes), format_bytes(machine.available_bytes));
+}
+
+/// talus check: reads and validates the case with its overrides and prints what it would
+/// allocate; writes nothing. Exit 0, or 2 for bad input.
+int check_command(const std::string& case_file, const std::vector<std::string>& overrides) {
+  const CaseSpec spec = read_case_file(case_file, overrides);
+  const MemoryEstimate estimate = estimate_memory(spec);
+  const MachineMemory machine = machine_memory();
+  fmt::print("{}: valid case '{}'\n", case_file, spec.name);
+  fmt::print("  grid      {:g} x {:g} cells of {:g} m, {:.6g} nodes\n", estimate.cells_x,
+             estimate.cells_y, spec.grid.cell_size, estimate.nodes);
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b)
+    fmt::print("  body      {}: about {:.6g} material points\n", spec.bodies[b].name,
+               estimate.body_points[b]);
+  fmt::print("  memory    about {}\n", estimate.describe());
+  if (estimate.split_growth > 1)
+    fmt::print("  splitting may multiply the points of a splitting body by up to {:g}\n",
+               estimate.split_growth);
+  fmt::print("  machine   {} in all ({}), {} available now\n", format_bytes(machine.total_bytes),
+             machine.source, format_bytes(machine.available_bytes));
+  return kExitOk;
+}
+
 int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
                 const std::string& out, bool force, int threads) {
   const CaseSpec spec = read_case_file(case_file, overrides);
+  warn_if_memory_is_short(spec);
   RunOptions options;
   options.out_dir = out;
   options.force = force;
@@ -210,6 +247,12 @@ int main(int argc, char** argv) {
                          "voxels or points (default: voxels when the run wrote them)");
   render_cmd->add_option("-o,--output", render_options.output, "Output picture (.png)")->required();
 
+  auto* check = app.add_subcommand(
+      "check", "Read and validate a case (with its --set overrides) and print its memory "
+               "estimate; writes nothing (exit 0, or 2 for bad input)");
+  check->add_option("case", case_file, "Case file (YAML)")->required();
+  check->add_option("--set", overrides, "Override a case key (repeatable)");
+
   auto* info = app.add_subcommand("info", "Version, build options and available backends");
 
   try {
@@ -234,6 +277,8 @@ int main(int argc, char** argv) {
       return run_bench(bench_options);
     if (*render_cmd)
       return render(render_options);
+    if (*check)
+      return check_command(case_file, overrides);
     if (*info)
       return print_info();
   } catch (const InputError& e) {

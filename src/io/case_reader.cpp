@@ -3,10 +3,12 @@
 // read_*.cpp; this file holds the checked Map, the top level of the case and the entry points.
 #include "talus/io/case_reader.hpp"
 
+#include "talus/core/memory_estimate.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/material/plastic_material.hpp"
 
 #include "validator.hpp"
+#include "yaml_checks.hpp"
 
 #include <cerrno>
 #include <filesystem>
@@ -34,7 +36,9 @@ Map::Map(const Validator& v, Item self, const std::vector<std::string>& allowed)
     const std::string path = child_path(self_.path, name);
     Item key_item{k, key_mark, path};
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
-      std::string what = "unknown key '" + name + "' (allowed keys here: " + join(allowed) + ")";
+      key_item.path = child_path(self_.path, shown(name));
+      std::string what =
+          "unknown key '" + shown(name) + "' (allowed keys here: " + join(allowed) + ")";
       const std::string guess = closest_match(name, allowed);
       if (!guess.empty())
         what += "; did you mean '" + guess + "'?";
@@ -46,6 +50,46 @@ Map::Map(const Validator& v, Item self, const std::vector<std::string>& allowed)
                             std::to_string(where.line) + ")");
     }
     entries_.push_back(Entry{name, key_item, Item{value, mark_or(value, key_mark), path}});
+  }
+}
+
+// --- the whole tree ------------------------------------------------------------------------
+
+/// More values than any case file has, even with long lists of polygon vertices; the bound stops
+/// aliases that repeat a list of lists ("billion laughs") from costing exponential time.
+constexpr std::size_t kMaxValues = 1000000;
+
+void Validator::check_tree(const YAML::Node& root) const {
+  std::size_t count = 0;
+  check_node(Item{root, root.Mark(), ""}, count);
+}
+
+void Validator::check_node(const Item& it, std::size_t& count) const {
+  if (++count > kMaxValues)
+    fail(it, fmt::format("the case holds more than {} values (are YAML aliases repeating a "
+                         "list?)",
+                         kMaxValues));
+  const YAML::Node& n = it.node;
+  const std::string& tag = n.Tag();
+  // yaml-cpp gives an untagged plain value the tag "?" and an untagged quoted one "!".
+  if (!tag.empty() && tag != "?" && tag != "!")
+    fail(it, "YAML tags are not part of the case format (this value is tagged '" + shown(tag) +
+                 "'); write the value without the tag");
+  if (n.IsScalar() && tag == "!" && origin(it.mark, it.path) == nullptr &&
+      quote_unterminated(text_, it.mark))
+    fail(it, unterminated_quote_message(text_, it.mark));
+  if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      check_node(Item{n[i], mark_or(n[i], it.mark), child_path(it.path, i)}, count);
+  } else if (n.IsMap()) {
+    for (auto entry = n.begin(); entry != n.end(); ++entry) {
+      const YAML::Node key = entry->first;
+      const YAML::Node value = entry->second;
+      const std::string name = key.IsScalar() ? shown(key.Scalar()) : std::string("?");
+      const std::string path = child_path(it.path, name);
+      check_node(Item{key, key.Mark(), path}, count);
+      check_node(Item{value, mark_or(value, key.Mark()), path}, count);
+    }
   }
 }
 
@@ -89,8 +133,18 @@ GridSpec Validator::grid(const Item& it) const {
     fail(extent, "both components must be > 0 (got " + vec(g.extent) + ")");
   const Item cell = m.required("cell_size");
   g.cell_size = positive(cell);
+  for (int d = 0; d < 2; ++d)
+    if (!std::isfinite(g.origin[d] + g.extent[d]))
+      fail(extent, "origin + extent overflows the double-precision range (the grid would end at "
+                   "infinity)");
   for (int d = 0; d < 2; ++d) {
     const double cells = g.extent[d] / g.cell_size;
+    // Beyond 2^53 cells consecutive counts are no longer distinct doubles (and no index type
+    // holds the node count); the memory estimate refuses far smaller grids anyway.
+    if (!std::isfinite(cells) || cells > 9.0e15)
+      fail(cell, fmt::format("the grid extent in {} ({} m) divided by the cell size ({} m) is {} "
+                             "cells, more than can be counted",
+                             d == 0 ? "x" : "y", num(g.extent[d]), num(g.cell_size), num(cells)));
     const double whole = std::round(cells);
     if (whole < 1 || std::abs(cells - whole) > 1e-9 * cells)
       fail(cell, fmt::format("the grid extent in {} ({} m) is not a whole number of cells of "
@@ -171,7 +225,44 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   }
   if (top.present("strength_reduction"))
     spec.strength_reduction = strength_reduction(top["strength_reduction"], spec);
+  check_memory(top, spec);
   return spec;
+}
+
+// Nothing is allocated for a case before this estimate said it fits: a grid of 1e-9 m cells
+// is refused here, in a millisecond, instead of failing in std::bad_alloc after gigabytes.
+// The limit is the machine's total memory (MemTotal, or a lower cgroup limit): a case above it
+// can never run here, whereas one above what is available right now may run once other jobs
+// end, so that only gets a warning (talus run, talus check).
+void Validator::check_memory(const Map& top, const CaseSpec& spec) const {
+  const MemoryEstimate estimate = estimate_memory(spec);
+  const MachineMemory machine = machine_memory();
+  if (estimate.total_bytes <= machine.total_bytes)
+    return;
+  // A body's points per cell are named when one point per direction would make the case fit;
+  // otherwise the cell size is what has to change.
+  Item at = Map(*this, top["grid"], {"origin", "extent", "cell_size"})["cell_size"];
+  if (estimate.driver_body >= 0 && estimate.points > 0) {
+    const auto b = static_cast<std::size_t>(estimate.driver_body);
+    const BodySpec& body = spec.bodies[b];
+    const int n = body.refine ? std::max(body.refine->particles_per_cell, body.particles_per_cell)
+                              : body.particles_per_cell;
+    const double share = estimate.point_bytes * estimate.body_points[b] / estimate.points;
+    const bool fewer_points_fit =
+        estimate.total_bytes - share * (1.0 - 1.0 / (n * n)) <= machine.total_bytes;
+    const YAML::Node node = list(top["bodies"])[b].node;
+    const std::string key = estimate.driver_key.substr(estimate.driver_key.find('.') + 1);
+    if (fewer_points_fit && key == "particles_per_cell" && node["particles_per_cell"])
+      at = Item{node["particles_per_cell"], node["particles_per_cell"].Mark(), estimate.driver_key};
+    else if (fewer_points_fit && key == "refine.particles_per_cell" && node["refine"] &&
+             node["refine"]["particles_per_cell"])
+      at = Item{node["refine"]["particles_per_cell"], node["refine"]["particles_per_cell"].Mark(),
+                estimate.driver_key};
+  }
+  fail(at,
+       fmt::format("the memory estimate of the case is {}, more than this machine has ({}, {}); "
+                   "use a coarser grid.cell_size or fewer particles_per_cell",
+                   estimate.describe(), format_bytes(machine.total_bytes), machine.source));
 }
 
 } // namespace detail
@@ -181,6 +272,12 @@ using detail::Validator;
 
 CaseSpec read_case_text(const std::string& text, const std::string& label,
                         const std::vector<std::string>& overrides) {
+  const auto at = [&](std::size_t offset) {
+    const auto [line, column] = detail::line_column(text, offset);
+    return SourceLocation{label, line, column, ""};
+  };
+  if (const std::optional<detail::TextProblem> problem = detail::check_raw_text(text))
+    throw InputError(at(problem->offset), problem->what);
   YAML::Node root;
   try {
     const std::vector<YAML::Node> documents = YAML::LoadAll(text);
@@ -195,17 +292,26 @@ CaseSpec read_case_text(const std::string& text, const std::string& label,
       }
   } catch (const YAML::ParserException& e) {
     const YAML::Mark& m = e.mark;
+    // yaml-cpp says "bad file" when it stops at its depth limit (check_raw_text counts nesting
+    // conservatively, so this is only a fallback).
+    const std::string what = e.msg == "bad file"
+                                 ? "the maps and lists nest deeper than the YAML parser allows"
+                                 : "YAML syntax error: " + e.msg;
     throw InputError(
         SourceLocation{label, m.is_null() ? 0 : m.line + 1, m.is_null() ? 0 : m.column + 1, ""},
-        "YAML syntax error: " + e.msg);
+        what);
   }
 
   // A document that is not a map is reported as such before any override tries to go into it.
   if (!root.IsNull() && !root.IsMap())
-    Validator(label, {}).read(root);
+    Validator(label, {}, text).read(root);
+  // Tags and open quotes of the file are reported before an override could replace the value.
+  Validator(label, {}, text).check_tree(root);
   std::vector<AppliedOverride> applied = detail::apply_overrides(root, overrides);
 
-  CaseSpec spec = Validator(label, std::move(applied)).read(root);
+  const Validator validator(label, std::move(applied), text);
+  validator.check_tree(root);
+  CaseSpec spec = validator.read(root);
   spec.source_file = label;
   spec.source_text = text;
   spec.overrides = overrides;

@@ -29,8 +29,8 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
     b.material = name(material);
     const auto found = std::find(material_names.begin(), material_names.end(), b.material);
     if (found == material_names.end()) {
-      std::string what =
-          "unknown material '" + b.material + "' (defined materials: " + join(material_names) + ")";
+      std::string what = "unknown material '" + shown(b.material) +
+                         "' (defined materials: " + join(material_names) + ")";
       const std::string guess = closest_match(b.material, material_names);
       if (!guess.empty())
         what += "; did you mean '" + guess + "'?";
@@ -44,7 +44,7 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       const Item ppc = m["particles_per_cell"];
       const Index n = integer(ppc);
       if (n < 1 || n > 16)
-        fail(ppc, "must be an integer from 1 to 16 (got " + ppc.node.Scalar() + ")");
+        fail(ppc, "must be an integer from 1 to 16 (got " + shown(ppc.node.Scalar()) + ")");
       b.particles_per_cell = static_cast<int>(n);
     }
     if (m.has("velocity"))
@@ -107,7 +107,7 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
     const bool geostatic_key = std::string(key) != "stress";
     if (m.has(key) && geostatic_key != (s.kind == Kind::Geostatic))
       fail(m.key(key), std::string("'") + key + "' does not apply to initial stress type '" +
-                           m["type"].node.Scalar() + "'");
+                           shown(m["type"].node.Scalar()) + "'");
   }
   if (s.kind == Kind::Uniform) {
     const Item stress = m.required("stress");
@@ -140,7 +140,7 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
     const Item k0 = m["k0"];
     s.k0 = number(k0);
     if (!(*s.k0 > 0.0))
-      fail(k0, "must be positive (got " + k0.node.Scalar() + ")");
+      fail(k0, "must be positive (got " + shown(k0.node.Scalar()) + ")");
   }
   return s;
 }
@@ -152,14 +152,14 @@ SplitSpec Validator::split(const Item& it) const {
     const Item alpha = m["alpha"];
     s.alpha = number(alpha);
     if (!(s.alpha > 1.0))
-      fail(alpha, "must be > 1: a stretch limit (got " + alpha.node.Scalar() + ")");
+      fail(alpha, "must be > 1: a stretch limit (got " + shown(alpha.node.Scalar()) + ")");
   }
   if (m.has("beta")) {
     const Item beta = m["beta"];
     s.beta = number(beta);
     if (!(s.beta > 0.0 && s.beta < 1.0))
       fail(beta, "must be in the open interval (0, 1): a compression limit (got " +
-                     beta.node.Scalar() + ")");
+                     shown(beta.node.Scalar()) + ")");
   }
   if (m.has("gamma"))
     s.gamma = positive(m["gamma"]);
@@ -168,14 +168,14 @@ SplitSpec Validator::split(const Item& it) const {
     const Index n = integer(gen);
     // 2^30 descendants of one point is far beyond any memory; the cap keeps the count in int.
     if (n < 0 || n > 30)
-      fail(gen, "must be an integer from 0 to 30 (got " + gen.node.Scalar() + ")");
+      fail(gen, "must be an integer from 0 to 30 (got " + shown(gen.node.Scalar()) + ")");
     s.max_generations = static_cast<int>(n);
   }
   if (m.has("min_size")) {
     const Item size = m["min_size"];
     s.min_size = number(size);
     if (!(s.min_size >= 0.0))
-      fail(size, "must be >= 0 m (got " + size.node.Scalar() + ")");
+      fail(size, "must be >= 0 m (got " + shown(size.node.Scalar()) + ")");
   }
   return s;
 }
@@ -186,7 +186,7 @@ BodySpec::Refine Validator::refine(const Item& it) const {
   const Item ppc = m.required("particles_per_cell");
   const Index n = integer(ppc);
   if (n < 1 || n > 16)
-    fail(ppc, "must be an integer from 1 to 16 (got " + ppc.node.Scalar() + ")");
+    fail(ppc, "must be an integer from 1 to 16 (got " + shown(ppc.node.Scalar()) + ")");
   r.particles_per_cell = static_cast<int>(n);
   for (const Item& box : list(m.required("boxes"))) {
     const std::vector<Item> values = list(box);

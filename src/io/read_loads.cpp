@@ -54,7 +54,8 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
     t.body = name(body);
     const auto found = std::find(body_names.begin(), body_names.end(), t.body);
     if (found == body_names.end()) {
-      std::string what = "unknown body '" + t.body + "' (defined bodies: " + join(body_names) + ")";
+      std::string what =
+          "unknown body '" + shown(t.body) + "' (defined bodies: " + join(body_names) + ")";
       const std::string guess = closest_match(t.body, body_names);
       if (!guess.empty())
         what += "; did you mean '" + guess + "'?";

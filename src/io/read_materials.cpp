@@ -27,7 +27,7 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
     const Item nu = m.required("poisson_ratio");
     s.poisson_ratio = number(nu);
     if (!(s.poisson_ratio > -1 && s.poisson_ratio < 0.5))
-      fail(nu, "must be in the open interval (-1, 0.5) (got " + nu.node.Scalar() + ")");
+      fail(nu, "must be in the open interval (-1, 0.5) (got " + shown(nu.node.Scalar()) + ")");
     plastic_parameters(m, model_item, s);
     out.push_back(std::move(s));
   }
@@ -57,7 +57,7 @@ void Validator::plastic_parameters(const Map& m, const Item& model_item, Materia
                           "friction_angle", "dilation_angle", "residual"})
     if (m.has(key) && std::find(takes.begin(), takes.end(), key) == takes.end())
       fail(m.key(key), std::string("'") + key + "' does not apply to model '" +
-                           model_item.node.Scalar() + "'" +
+                           shown(model_item.node.Scalar()) + "'" +
                            (takes.empty() ? std::string(" (an elastic model)")
                                           : " (it takes: " + join(takes) + ")"));
   if (takes.empty())

@@ -18,7 +18,7 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
     const Item every = m["every_steps"];
     o.every_steps = integer(every);
     if (*o.every_steps < 1)
-      fail(every, "must be an integer >= 1 (got " + every.node.Scalar() + ")");
+      fail(every, "must be an integer >= 1 (got " + shown(every.node.Scalar()) + ")");
   }
   if (m.has("every_time"))
     o.every_time = positive(m["every_time"]);
@@ -29,7 +29,7 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
     for (const Item& f : list(m["fields"])) {
       const OutputField field = choice(f, output_field_choices());
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
-        fail(f, "field '" + f.node.Scalar() + "' is listed twice");
+        fail(f, "field '" + shown(f.node.Scalar()) + "' is listed twice");
       if (field == OutputField::PlasticStrain && !any_plastic)
         fail(f, "field 'plastic_strain' needs an elasto-plastic material (von_mises, tresca, "
                 "mohr_coulomb, drucker_prager); every material of this case is elastic");
@@ -66,7 +66,7 @@ std::vector<ProbeSpec> Validator::probes(const Item& it) const {
       const Item particle = m["particle"];
       p.particle = integer(particle);
       if (*p.particle < 0)
-        fail(particle, "must be an integer >= 0 (got " + particle.node.Scalar() + ")");
+        fail(particle, "must be an integer >= 0 (got " + shown(particle.node.Scalar()) + ")");
     } else {
       fail(m.self(), "missing required key 'point' or 'particle' (give exactly one)");
     }

@@ -74,7 +74,8 @@ std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) c
         const Item ratio = rest["kinetic_energy_ratio"];
         r.kinetic_energy_ratio = number(ratio);
         if (!(r.kinetic_energy_ratio > 0 && r.kinetic_energy_ratio < 1))
-          fail(ratio, "must be in the open interval (0, 1) (got " + ratio.node.Scalar() + ")");
+          fail(ratio,
+               "must be in the open interval (0, 1) (got " + shown(ratio.node.Scalar()) + ")");
       }
       if (rest.has("duration"))
         r.duration = positive(rest["duration"]);
@@ -95,7 +96,7 @@ TimeSpec Validator::time(const Item& it) const {
     const Item cfl = m["cfl"];
     t.cfl = number(cfl);
     if (!(*t.cfl > 0 && *t.cfl < 1))
-      fail(cfl, "must be in the open interval (0, 1) (got " + cfl.node.Scalar() + ")");
+      fail(cfl, "must be in the open interval (0, 1) (got " + shown(cfl.node.Scalar()) + ")");
   }
   if (m.has("dt"))
     t.dt = positive(m["dt"]);
@@ -112,7 +113,7 @@ TimeSpec Validator::time(const Item& it) const {
     const Item max_steps = m["max_steps"];
     t.max_steps = integer(max_steps);
     if (t.max_steps < 1)
-      fail(max_steps, "must be an integer >= 1 (got " + max_steps.node.Scalar() + ")");
+      fail(max_steps, "must be an integer >= 1 (got " + shown(max_steps.node.Scalar()) + ")");
   }
   return t;
 }
@@ -143,13 +144,13 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
     const Item flip = m["flip"];
     s.flip = number(flip);
     if (!(s.flip >= 0 && s.flip <= 1))
-      fail(flip, "must be in [0, 1] (got " + flip.node.Scalar() + ")");
+      fail(flip, "must be in [0, 1] (got " + shown(flip.node.Scalar()) + ")");
   }
   if (m.has("linear_solver")) {
     const Item ls = m["linear_solver"];
     LinearSolverKind kind;
     if (!ls.node.IsScalar() || !parse_linear_solver_kind(ls.node.Scalar(), kind))
-      fail(ls, "unknown linear solver '" + (ls.node.IsScalar() ? ls.node.Scalar() : "") +
+      fail(ls, "unknown linear solver '" + (ls.node.IsScalar() ? shown(ls.node.Scalar()) : "") +
                    "' (built in: " + join(available_linear_solvers()) + ")");
     s.linear_solver = ls.node.Scalar();
   }
@@ -157,13 +158,13 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
     const Item tol = m["newton_tolerance"];
     s.newton_tolerance = positive(tol);
     if (s.newton_tolerance >= 1e-2)
-      fail(tol, "must be below 1e-2 (got " + tol.node.Scalar() + ")");
+      fail(tol, "must be below 1e-2 (got " + shown(tol.node.Scalar()) + ")");
   }
   if (m.has("max_newton_iterations")) {
     const Item it_max = m["max_newton_iterations"];
     const Index v = integer(it_max);
     if (v < 1 || v > 200)
-      fail(it_max, "must be an integer in [1, 200] (got " + it_max.node.Scalar() + ")");
+      fail(it_max, "must be an integer in [1, 200] (got " + shown(it_max.node.Scalar()) + ")");
     s.max_newton_iterations = static_cast<int>(v);
   }
   if (m.has("easy_newton_iterations")) {
@@ -181,7 +182,7 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
                                    "explicit analysis has no tangent to stabilise");
     s.ghost_penalty = number(gp);
     if (!(s.ghost_penalty >= 0 && s.ghost_penalty < 1))
-      fail(gp, "must be in [0, 1) (got " + gp.node.Scalar() + ")");
+      fail(gp, "must be in [0, 1) (got " + shown(gp.node.Scalar()) + ")");
   }
   if (m.has("f_bar")) {
     if (const std::string stage = explicit_stage(spec); !stage.empty())
@@ -232,14 +233,15 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
     const Item trials = m["max_trials"];
     const Index v = integer(trials);
     if (v < 2 || v > 100)
-      fail(trials, "must be an integer in [2, 100] (got " + trials.node.Scalar() + ")");
+      fail(trials, "must be an integer in [2, 100] (got " + shown(trials.node.Scalar()) + ")");
     s.max_trials = static_cast<int>(v);
   }
   const Item probe = m.required("probe");
   s.probe = name(probe);
   if (std::none_of(spec.probes.begin(), spec.probes.end(),
                    [&](const ProbeSpec& p) { return p.name == s.probe; }))
-    fail(probe, "no probe named '" + s.probe + "' (the crest probe must be listed in 'probes')");
+    fail(probe,
+         "no probe named '" + shown(s.probe) + "' (the crest probe must be listed in 'probes')");
   if (m.has("displacement_limit"))
     s.displacement_limit = positive(m["displacement_limit"]);
   return s;

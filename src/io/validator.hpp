@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <map>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -78,8 +79,8 @@ inline std::string describe(const YAML::Node& n) {
     return "an empty value";
   case YAML::NodeType::Scalar:
     if (n.Tag() == "!")
-      return "the quoted string \"" + n.Scalar() + "\"";
-    return "'" + n.Scalar() + "'";
+      return "the quoted string \"" + shown(n.Scalar()) + "\"";
+    return "'" + shown(n.Scalar()) + "'";
   case YAML::NodeType::Sequence:
     return "a list";
   case YAML::NodeType::Map:
@@ -140,8 +141,14 @@ private:
 
 class Validator {
 public:
-  Validator(std::string file, std::vector<AppliedOverride> overrides)
-      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+  /// `text` is the case file's text (the marks of the tree point into it); it must outlive the
+  /// Validator.
+  Validator(std::string file, std::vector<AppliedOverride> overrides, std::string_view text = {})
+      : file_(std::move(file)), overrides_(std::move(overrides)), text_(text) {}
+
+  /// The checks of the whole tree before any section is read: no YAML tags, no quoted string
+  /// left open, a bounded number of values (aliases can multiply them). Throws InputError.
+  void check_tree(const YAML::Node& root) const;
 
   CaseSpec read(const YAML::Node& root) const;
 
@@ -170,7 +177,7 @@ public:
   [[noreturn]] void fail(const Item& at, const std::string& what) const {
     std::string message = what;
     if (const AppliedOverride* o = origin(at.mark, at.path))
-      message += " (from --set " + o->text + ")";
+      message += " (from --set " + shown(o->text, 200) + ")";
     throw InputError(locate(at), message);
   }
 
@@ -183,10 +190,25 @@ public:
   }
 
   /// A name: non-empty text.
+  /// A name: non-empty, at most 255 bytes of printable UTF-8. Names end up in directory names,
+  /// run.h5, summary.json and the column names of timeseries.csv, which hold UTF-8 text.
   std::string name(const Item& it) const {
     std::string s = text(it);
     if (s.empty())
       fail(it, "a name must not be empty");
+    if (const std::size_t bad = invalid_utf8_at(s); bad != std::string::npos)
+      fail(it, fmt::format("the name '{}' is not valid UTF-8 (byte 0x{:02x} at position {}); names "
+                           "go into result files that hold UTF-8 text",
+                           shown(s), static_cast<unsigned char>(s[bad]), bad));
+    for (const char c : s)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)
+        fail(it, "the name '" + shown(s) +
+                     "' holds a control character (a tab, a line break, ...); names go into "
+                     "result files and column names");
+    if (s.size() > 255)
+      fail(it, fmt::format("the name '{}' is {} bytes long; at most 255 (it may become a "
+                           "directory name)",
+                           shown(s), s.size()));
     return s;
   }
 
@@ -205,7 +227,7 @@ public:
       lower.erase(0, 1);
     if (lower == ".inf" || lower == "inf" || lower == "infinity" || lower == ".nan" ||
         lower == "nan")
-      fail(it, "must be a finite number (got " + s + "); NaN and infinity are not physical");
+      fail(it, "must be a finite number (got " + shown(s) + "); NaN and infinity are not physical");
     const char* begin = s.data();
     const char* end = s.data() + s.size();
     if (begin != end && *begin == '+')
@@ -213,11 +235,11 @@ public:
     double v = 0;
     const auto [ptr, ec] = std::from_chars(begin, end, v);
     if (ec == std::errc::result_out_of_range)
-      fail(it, "number " + s + " is out of the double-precision range");
+      fail(it, "number " + shown(s) + " is out of the double-precision range");
     if (ec != std::errc() || ptr != end || begin == end)
       fail(it, "expected " + expected + ", got " + describe(n));
     if (!std::isfinite(v))
-      fail(it, "must be a finite number (got " + s + ")");
+      fail(it, "must be a finite number (got " + shown(s) + ")");
     return v;
   }
 
@@ -227,7 +249,7 @@ public:
     if (v != std::floor(v))
       fail(it, "expected an integer, got " + describe(n));
     if (std::abs(v) > 9.0e15)
-      fail(it, "integer " + n.Scalar() + " is out of range");
+      fail(it, "integer " + shown(n.Scalar()) + " is out of range");
     return static_cast<Index>(v);
   }
 
@@ -313,7 +335,7 @@ public:
     for (const auto& [word, value] : options)
       if (word == s)
         return value;
-    std::string what = "unknown value '" + s + "' (allowed: " + join(names) + ")";
+    std::string what = "unknown value '" + shown(s) + "' (allowed: " + join(names) + ")";
     const std::string guess = closest_match(s, names);
     if (!guess.empty())
       what += "; did you mean '" + guess + "'?";
@@ -332,7 +354,7 @@ public:
   double positive(const Item& it) const {
     const double v = number(it);
     if (!(v > 0))
-      fail(it, "must be > 0 (got " + it.node.Scalar() + ")");
+      fail(it, "must be > 0 (got " + shown(it.node.Scalar()) + ")");
     return v;
   }
 
@@ -374,8 +396,8 @@ private:
     void add(const std::string& name, const Item& where, const std::string& owner) {
       const auto [it, inserted] = seen_.emplace(name, owner);
       if (!inserted)
-        v_.fail(where,
-                "duplicate " + kind_ + " name '" + name + "' (already used by " + it->second + ")");
+        v_.fail(where, "duplicate " + kind_ + " name '" + shown(name) + "' (already used by " +
+                           it->second + ")");
     }
 
   private:
@@ -384,8 +406,12 @@ private:
     std::map<std::string, std::string> seen_;
   };
 
+  void check_node(const Item& it, std::size_t& count) const;
+  void check_memory(const Map& top, const CaseSpec& spec) const;
+
   std::string file_;
   std::vector<AppliedOverride> overrides_;
+  std::string_view text_;
 };
 
 /// The output defaults: the six fields, plus plastic_strain when the case has an
