@@ -4,6 +4,7 @@
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/memory_estimate.hpp"
+#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/case_vocabulary.hpp"
 #include "talus/linalg/linear_solver.hpp"
@@ -72,9 +73,13 @@ void warn_if_memory_is_short(const CaseSpec& spec) {
 /// allocate; writes nothing. Exit 0, or 2 for bad input.
 int check_command(const std::string& case_file, const std::vector<std::string>& overrides) {
   const CaseSpec spec = read_case_file(case_file, overrides);
+  // The scene is the last place a case can be refused (a velocity expression that is NaN at a
+  // point, a probe index beyond the points); the estimate said it fits.
+  const Scene<2> scene = build_scene(spec);
   const MemoryEstimate estimate = estimate_memory(spec);
   const MachineMemory machine = machine_memory();
-  fmt::print("{}: valid case '{}'\n", case_file, spec.name);
+  fmt::print("{}: valid case '{}', {} material points\n", case_file, spec.name,
+             scene.particles.size());
   fmt::print("  grid      {:g} x {:g} cells of {:g} m, {:.6g} nodes\n", estimate.cells_x,
              estimate.cells_y, spec.grid.cell_size, estimate.nodes);
   for (std::size_t b = 0; b < spec.bodies.size(); ++b)

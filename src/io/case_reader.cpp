@@ -36,7 +36,6 @@ Map::Map(const Validator& v, Item self, const std::vector<std::string>& allowed)
     const std::string path = child_path(self_.path, name);
     Item key_item{k, key_mark, path};
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
-      key_item.path = child_path(self_.path, shown(name));
       std::string what =
           "unknown key '" + shown(name) + "' (allowed keys here: " + join(allowed) + ")";
       const std::string guess = closest_match(name, allowed);
@@ -61,10 +60,14 @@ constexpr std::size_t kMaxValues = 1000000;
 
 void Validator::check_tree(const YAML::Node& root) const {
   std::size_t count = 0;
-  check_node(Item{root, root.Mark(), ""}, count);
+  check_node(Item{root, root.Mark(), ""}, 0, count);
 }
 
-void Validator::check_node(const Item& it, std::size_t& count) const {
+void Validator::check_node(const Item& it, int depth, std::size_t& count) const {
+  if (depth > kMaxNesting)
+    fail(it, fmt::format("the maps and lists nest more than {} levels deep here (a case file "
+                         "needs fewer than 10)",
+                         kMaxNesting));
   if (++count > kMaxValues)
     fail(it, fmt::format("the case holds more than {} values (are YAML aliases repeating a "
                          "list?)",
@@ -80,15 +83,15 @@ void Validator::check_node(const Item& it, std::size_t& count) const {
     fail(it, unterminated_quote_message(text_, it.mark));
   if (n.IsSequence()) {
     for (std::size_t i = 0; i < n.size(); ++i)
-      check_node(Item{n[i], mark_or(n[i], it.mark), child_path(it.path, i)}, count);
+      check_node(Item{n[i], mark_or(n[i], it.mark), child_path(it.path, i)}, depth + 1, count);
   } else if (n.IsMap()) {
     for (auto entry = n.begin(); entry != n.end(); ++entry) {
       const YAML::Node key = entry->first;
       const YAML::Node value = entry->second;
-      const std::string name = key.IsScalar() ? shown(key.Scalar()) : std::string("?");
+      const std::string name = key.IsScalar() ? key.Scalar() : std::string("?");
       const std::string path = child_path(it.path, name);
-      check_node(Item{key, key.Mark(), path}, count);
-      check_node(Item{value, mark_or(value, key.Mark()), path}, count);
+      check_node(Item{key, key.Mark(), path}, depth + 1, count);
+      check_node(Item{value, mark_or(value, key.Mark()), path}, depth + 1, count);
     }
   }
 }
@@ -193,7 +196,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.present("boundaries"))
     spec.boundaries = boundaries(top["boundaries"]);
   if (top.present("point_loads"))
-    spec.point_loads = point_loads(top["point_loads"]);
+    spec.point_loads = point_loads(top["point_loads"], spec);
   if (top.present("tractions"))
     spec.tractions = tractions(top["tractions"], spec);
   if (top.present("prescribed"))
@@ -203,7 +206,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   spec.output =
       top.present("output") ? output(top["output"], any_plastic) : default_output(any_plastic);
   if (top.present("probes"))
-    spec.probes = probes(top["probes"]);
+    spec.probes = probes(top["probes"], spec.grid);
   if (top.present("solver"))
     spec.solver = solver(top["solver"], spec);
   if (top.present("solver") && !spec.solver.linear_solver.empty()) {
@@ -292,6 +295,19 @@ CaseSpec read_case_text(const std::string& text, const std::string& label,
       }
   } catch (const YAML::ParserException& e) {
     const YAML::Mark& m = e.mark;
+    // A plain key may be at most 1024 characters long (YAML 1.2, 7.4.2); yaml-cpp then says
+    // "illegal map value" past the end of the key.
+    if (e.msg == "illegal map value" && !m.is_null() && m.column > 1024) {
+      const std::size_t line_start = text.rfind('\n', static_cast<std::size_t>(m.pos));
+      const std::size_t start = line_start == std::string::npos ? 0 : line_start + 1;
+      const std::size_t key = text.find_first_not_of(" -", start);
+      const auto [line, column] = detail::line_column(text, key);
+      throw InputError(SourceLocation{label, line, column, ""},
+                       fmt::format("this key, '{}', is {} characters long; YAML allows at most "
+                                   "1024 for a key",
+                                   detail::shown(text.substr(key, 200)),
+                                   static_cast<std::size_t>(m.pos) - key));
+    }
     // yaml-cpp says "bad file" when it stops at its depth limit (check_raw_text counts nesting
     // conservatively, so this is only a fallback).
     const std::string what = e.msg == "bad file"

@@ -47,8 +47,13 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
         fail(ppc, "must be an integer from 1 to 16 (got " + shown(ppc.node.Scalar()) + ")");
       b.particles_per_cell = static_cast<int>(n);
     }
-    if (m.has("velocity"))
-      position_field(m["velocity"], b.velocity, b.velocity_expression);
+    if (m.has("velocity")) {
+      const Item velocity = m["velocity"];
+      position_field(velocity, b.velocity, b.velocity_expression);
+      for (std::size_t d = 0; d < 2; ++d)
+        b.velocity_where[d] =
+            locate(mark_or(velocity.node[d], velocity.mark), child_path(velocity.path, d));
+    }
     if (m.has("angular_velocity"))
       b.angular_velocity = number(m["angular_velocity"]);
     if (m.present("placement"))
@@ -63,6 +68,7 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       b.refine = refine(m["refine"]);
     out.push_back(std::move(b));
   }
+  bodies_apart(items, out, spec.grid);
   return out;
 }
 
@@ -116,6 +122,7 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
       fail(stress, "give four stresses [sigma_xx, sigma_yy, sigma_xy, sigma_zz] in Pa");
     for (std::size_t k = 0; k < 4; ++k)
       s.stress[k] = number(values[k]);
+    s.where = locate(stress);
     return s;
   }
   if (spec.gravity.norm() == 0.0 || spec.gravity.x() != 0.0 || spec.gravity.y() > 0.0)
@@ -136,8 +143,10 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
   }
   if (m.has("surface"))
     s.surface = number(m["surface"]);
+  s.where = locate(m.self());
   if (m.has("k0")) {
     const Item k0 = m["k0"];
+    s.where = locate(k0);
     s.k0 = number(k0);
     if (!(*s.k0 > 0.0))
       fail(k0, "must be positive (got " + shown(k0.node.Scalar()) + ")");

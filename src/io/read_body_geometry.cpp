@@ -1,9 +1,15 @@
 // The geometry of a body: its shape keys, a simple polygon, and that it lies inside the grid.
 #include "validator.hpp"
 
+#include "talus/core/body_geometry.hpp"
+
+#include <optional>
+
 namespace talus::detail {
 
 namespace {
+
+constexpr std::size_t kMaxPolygonVertices = 4096;
 
 double cross(const Vec2& a, const Vec2& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -74,6 +80,10 @@ void Validator::body_shape(const Map& m, BodySpec& b) const {
     if (items.size() < 3)
       fail(vertices,
            "a polygon needs at least 3 vertices (got " + std::to_string(items.size()) + ")");
+    // The simplicity test below compares every pair of edges.
+    if (items.size() > kMaxPolygonVertices)
+      fail(vertices, fmt::format("a polygon may have at most {} vertices (got {})",
+                                 kMaxPolygonVertices, items.size()));
     for (const Item& v : items)
       b.vertices.push_back(vec2(v));
     const std::size_t n = b.vertices.size();
@@ -84,8 +94,20 @@ void Validator::body_shape(const Map& m, BodySpec& b) const {
       lo = lo.cwiseMin(b.vertices[i]);
       hi = hi.cwiseMax(b.vertices[i]);
     }
-    if (std::abs(area2) <= 1e-12 * (hi - lo).squaredNorm())
-      fail(vertices, "the polygon has zero area (are its vertices collinear or repeated?)");
+    const double tiny = 1e-12 * (hi - lo).squaredNorm();
+    // What is wrong, in the order that names the real cause: all vertices on one line, a vertex
+    // given twice in a row, edges that cross (a bow tie has zero signed area too), zero area.
+    bool collinear = true;
+    for (std::size_t i = 2; i < n && collinear; ++i)
+      collinear =
+          std::abs(cross(b.vertices[1] - b.vertices[0], b.vertices[i] - b.vertices[0])) <= tiny;
+    if (collinear)
+      fail(vertices, "the polygon has zero area: its vertices lie on one line");
+    for (std::size_t i = 0; i < n; ++i)
+      if ((b.vertices[i] - b.vertices[(i + 1) % n]).squaredNorm() <= tiny)
+        fail(items[(i + 1) % n], fmt::format("vertex {} repeats vertex {} (vertices are numbered "
+                                             "from 0)",
+                                             (i + 1) % n, i));
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t j = i + 2; j < n; ++j) {
         if (i == 0 && j == n - 1)
@@ -96,6 +118,8 @@ void Validator::body_shape(const Map& m, BodySpec& b) const {
                                      "(vertices are numbered from 0)",
                                      i, i + 1, j, (j + 1) % n));
       }
+    if (std::abs(area2) <= tiny)
+      fail(vertices, "the polygon has zero area");
     break;
   }
   }
@@ -145,6 +169,65 @@ void Validator::body_inside_grid(const Map& m, const BodySpec& b, const GridSpec
     break;
   }
   }
+}
+
+} // namespace talus::detail
+
+namespace talus::detail {
+
+namespace {
+
+/// The first lattice site of body a (spacing h / particles_per_cell, its placement offset) that
+/// lies inside both a and b and inside the grid: a place where both bodies would put a point.
+/// At most about kMaxSites sites are tried (every k-th beyond that), so that the check stays well
+/// under a second for any body the memory estimate lets through.
+std::optional<Vec2> shared_site(const GridSpec& g, const BodySpec& a, const BodySpec& b) {
+  constexpr double kMaxSites = 4e6;
+  Vec2 alo = Vec2::Zero(), ahi = Vec2::Zero(), blo = Vec2::Zero(), bhi = Vec2::Zero();
+  bounding_box(a, alo, ahi);
+  bounding_box(b, blo, bhi);
+  const Vec2 lo = alo.cwiseMax(blo), hi = ahi.cwiseMin(bhi);
+  if (!(lo.x() <= hi.x() && lo.y() <= hi.y()))
+    return std::nullopt;
+  const double spacing = g.cell_size / a.particles_per_cell;
+  const Vec2 origin = g.origin + spacing * a.placement.offset;
+  std::array<double, 2> first{}, count{};
+  for (int d = 0; d < 2; ++d) {
+    first[static_cast<std::size_t>(d)] = std::floor((lo[d] - origin[d]) / spacing);
+    count[static_cast<std::size_t>(d)] =
+        std::ceil((hi[d] - origin[d]) / spacing) - first[static_cast<std::size_t>(d)];
+  }
+  const double sites = count[0] * count[1];
+  const double stride = sites > kMaxSites ? std::ceil(std::sqrt(sites / kMaxSites)) : 1.0;
+  const Vec2 grid_hi = g.origin + g.extent;
+  for (double j = 0; j < count[1]; j += stride)
+    for (double i = 0; i < count[0]; i += stride) {
+      const Vec2 q = origin + spacing * Vec2(first[0] + i + 0.5, first[1] + j + 0.5);
+      if ((q.array() < g.origin.array()).any() || (q.array() > grid_hi.array()).any())
+        continue;
+      if (inside_body(a, q) && inside_body(b, q))
+        return q;
+    }
+  return std::nullopt;
+}
+
+} // namespace
+
+// Two bodies that cover the same place would both put points there: twice the mass, moving as
+// one (MPM has one velocity field), which no case means. Bodies may touch along an edge.
+void Validator::bodies_apart(const std::vector<Item>& items, const std::vector<BodySpec>& bodies,
+                             const GridSpec& grid) const {
+  for (std::size_t j = 1; j < bodies.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      std::optional<Vec2> q = shared_site(grid, bodies[j], bodies[i]);
+      if (!q)
+        q = shared_site(grid, bodies[i], bodies[j]);
+      if (q)
+        fail(items[j], fmt::format("body '{}' overlaps body '{}': the point {} lies in both, so "
+                                   "both would put material points there (twice the mass); "
+                                   "bodies may touch along an edge but not overlap",
+                                   bodies[j].name, bodies[i].name, vec(*q)));
+    }
 }
 
 } // namespace talus::detail

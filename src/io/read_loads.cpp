@@ -19,7 +19,7 @@ BoundarySpec Validator::boundaries(const Item& it) const {
   return b;
 }
 
-std::vector<PointLoadSpec> Validator::point_loads(const Item& it) const {
+std::vector<PointLoadSpec> Validator::point_loads(const Item& it, const CaseSpec& spec) const {
   std::vector<PointLoadSpec> out;
   UniqueNames names(*this, "point load");
   const std::vector<Item> items = list(it);
@@ -34,7 +34,11 @@ std::vector<PointLoadSpec> Validator::point_loads(const Item& it) const {
       p.name = "load" + std::to_string(i);
       names.add(p.name, m.self(), items[i].path + " (default name)");
     }
-    p.point = vec2(m.required("point"));
+    const Item point = m.required("point");
+    p.point = vec2(point);
+    if (!inside_grid(p.point, spec.grid))
+      fail(point,
+           "point load at " + vec(p.point) + " lies outside the grid; " + grid_box(spec.grid));
     p.force = vec2(m.required("force"));
     out.push_back(std::move(p));
   }
@@ -88,6 +92,7 @@ std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec
     p.where = locate(m.self());
     const Item name_item = m.required("name");
     p.name = name(name_item);
+    column_name(name_item, p.name);
     for (const auto& other : out)
       if (other.name == p.name)
         fail(name_item, "duplicate name '" + p.name + "'");

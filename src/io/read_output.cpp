@@ -48,7 +48,7 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
   return o;
 }
 
-std::vector<ProbeSpec> Validator::probes(const Item& it) const {
+std::vector<ProbeSpec> Validator::probes(const Item& it, const GridSpec& grid) const {
   std::vector<ProbeSpec> out;
   UniqueNames names(*this, "probe");
   for (const Item& item : list(it)) {
@@ -57,14 +57,19 @@ std::vector<ProbeSpec> Validator::probes(const Item& it) const {
     p.where = locate(m.self());
     const Item name_item = m.required("name");
     p.name = name(name_item);
+    column_name(name_item, p.name);
     names.add(p.name, name_item, item.path);
     if (m.has("point") && m.has("particle"))
       fail(m.key("particle"), "give exactly one of 'point' and 'particle', not both");
     if (m.has("point")) {
       p.point = vec2(m["point"]);
+      if (!inside_grid(*p.point, grid))
+        fail(m["point"],
+             "probe point " + vec(*p.point) + " lies outside the grid; " + grid_box(grid));
     } else if (m.has("particle")) {
       const Item particle = m["particle"];
       p.particle = integer(particle);
+      p.particle_where = locate(particle);
       if (*p.particle < 0)
         fail(particle, "must be an integer >= 0 (got " + shown(particle.node.Scalar()) + ")");
     } else {

@@ -91,6 +91,19 @@ inline std::string describe(const YAML::Node& n) {
   return "nothing";
 }
 
+/// Whether p lies in the grid's box (with a round-off margin), and the box for a message.
+inline bool inside_grid(const Vec2& p, const GridSpec& g) {
+  const Vec2 lo = g.origin, hi = g.origin + g.extent;
+  const double tol = 1e-12 * (g.origin.cwiseAbs().maxCoeff() + g.extent.maxCoeff());
+  return p.x() >= lo.x() - tol && p.x() <= hi.x() + tol && p.y() >= lo.y() - tol &&
+         p.y() <= hi.y() + tol;
+}
+inline std::string grid_box(const GridSpec& g) {
+  const Vec2 lo = g.origin, hi = g.origin + g.extent;
+  return fmt::format("the grid covers x in [{}, {}], y in [{}, {}]", num(lo.x()), num(hi.x()),
+                     num(lo.y()), num(hi.y()));
+}
+
 /// A value in the case tree and where it came from.
 struct Item {
   YAML::Node node;
@@ -213,6 +226,13 @@ public:
   }
 
   double number(const Item& it) const { return parse_number(it, "a number"); }
+
+  /// A name that becomes part of a column name of timeseries.csv (probes, prescribed boxes).
+  void column_name(const Item& it, const std::string& s) const {
+    if (s.find_first_of(",\"") != std::string::npos)
+      fail(it, "the name '" + shown(s) +
+                   "' holds a comma or a double quote; it names columns of timeseries.csv");
+  }
 
   /// A finite number; `expected` names the kind for "expected X, got Y".
   double parse_number(const Item& it, const std::string& expected) const {
@@ -368,7 +388,7 @@ private:
   void body_shape(const Map& m, BodySpec& b) const;
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;
   BoundarySpec boundaries(const Item& it) const;
-  std::vector<PointLoadSpec> point_loads(const Item& it) const;
+  std::vector<PointLoadSpec> point_loads(const Item& it, const CaseSpec& spec) const;
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
   std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;
   TimeSpec time(const Item& it) const;
@@ -378,7 +398,9 @@ private:
   void check_explicit_time_step(const Item& time_item, const TimeSpec& time,
                                 const CaseSpec& spec) const;
   OutputSpec output(const Item& it, bool any_plastic) const;
-  std::vector<ProbeSpec> probes(const Item& it) const;
+  std::vector<ProbeSpec> probes(const Item& it, const GridSpec& grid) const;
+  void bodies_apart(const std::vector<Item>& items, const std::vector<BodySpec>& bodies,
+                    const GridSpec& grid) const;
   SolverSpec solver(const Item& it, const CaseSpec& spec) const;
   StrengthReductionSpec strength_reduction(const Item& it, const CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
@@ -406,7 +428,7 @@ private:
     std::map<std::string, std::string> seen_;
   };
 
-  void check_node(const Item& it, std::size_t& count) const;
+  void check_node(const Item& it, int depth, std::size_t& count) const;
   void check_memory(const Map& top, const CaseSpec& spec) const;
 
   std::string file_;

@@ -39,7 +39,7 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
     return TextProblem{at, fmt::format("the maps and lists nest more than {} levels deep here (a "
                                        "case file needs fewer than 10); is a bracket or an "
                                        "indentation wrong?",
-                                       kMaxNesting)};
+                                       kMaxTextNesting)};
   };
   const auto push_level = [&](std::size_t column) {
     while (!indents.empty() && indents.back() > column)
@@ -84,7 +84,7 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
             ++j;
           push_level(j - line_begin);
         }
-        if (indents.size() > kMaxNesting)
+        if (indents.size() > kMaxTextNesting)
           return too_deep(i);
       }
     }
@@ -104,7 +104,7 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
     }
     if (c == '[' || c == '{') {
       ++flow;
-      if (indents.size() + flow > kMaxNesting)
+      if (indents.size() + flow > kMaxTextNesting)
         return too_deep(i);
     } else if ((c == ']' || c == '}') && flow > 0) {
       --flow;

@@ -11,9 +11,12 @@
 
 namespace talus::detail {
 
-/// Deepest nesting of maps and lists a case file may have. A case needs about 6 levels; yaml-cpp
-/// gives up at about 500 with "bad file" and no useful position.
+/// Deepest nesting of maps and lists a case file may have (checked on the tree, with the key
+/// path). A case needs about 6 levels.
 inline constexpr int kMaxNesting = 64;
+/// Nesting the raw text may show before it is parsed: yaml-cpp gives up at about 500 levels with
+/// "bad file" and no useful position, so deeper text is refused before yaml-cpp sees it.
+inline constexpr int kMaxTextNesting = 400;
 
 /// What is wrong in a text and where (0-based byte offset into it).
 struct TextProblem {
@@ -22,7 +25,7 @@ struct TextProblem {
 };
 
 /// A carriage return that is not followed by a line feed (old Mac line ends, which yaml-cpp reads
-/// as no line end at all), or nesting deeper than kMaxNesting. Quoted strings and comments are
+/// as no line end at all), or nesting deeper than kMaxTextNesting. Quoted strings and comments are
 /// skipped; the nesting count is an upper bound of what the parser will see.
 std::optional<TextProblem> check_raw_text(std::string_view text);
 

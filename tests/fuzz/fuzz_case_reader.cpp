@@ -1,0 +1,597 @@
+// talus_fuzz_case_reader: a seeded mutation fuzzer of the case reader. It mutates the shipped
+// cases (cases/*.yaml, verification/*.yaml) with byte flips, token swaps, deleted, duplicated and
+// swapped lines, numbers replaced by extremes (0, -1, 1e308, nan, ...), huge strings, deep
+// nesting, YAML tags and stray YAML syntax, and feeds each mutant (sometimes with --set
+// overrides) to read_case_text and, when it parses and its memory estimate is small, to
+// build_scene. It never runs a simulation.
+//
+// A failure is any exception other than InputError (the CLI maps it to exit 1), a crash (signal)
+// or an input that takes longer than the watchdog (default 5 s): the input is saved to
+// <crash-dir>/fuzz-<kind>-<seed>-<n>.yaml and the driver exits 1. Every --cli-every-th mutant also
+// goes through the real binary (`talus check`), whose exit code must lie in 0-3.
+//
+//   talus_fuzz_case_reader --seconds 30 --seed 1 [--talus build/talus] [--crash-dir DIR]
+//   talus_fuzz_case_reader --replay saved.yaml        (one input, as the loop would run it)
+#include "talus/core/errors.hpp"
+#include "talus/core/memory_estimate.hpp"
+#include "talus/core/scene.hpp"
+#include "talus/io/case_reader.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// --- what the signal handler and the watchdog need --------------------------------------------
+const std::string* g_input = nullptr; // the input being read
+char g_crash_path[4096] = {};         // where a crash saves it
+std::atomic<long long> g_started_ns{0};
+std::atomic<bool> g_busy{false};
+
+void write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n <= 0)
+      return;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+extern "C" void on_crash(int sig) {
+  // Only async-signal-safe calls: open, write, close, then the default action.
+  if (g_input != nullptr) {
+    const int fd = ::open(g_crash_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      write_all(fd, g_input->data(), g_input->size());
+      ::close(fd);
+    }
+  }
+  const char msg[] = "fuzz: CRASH (signal); the input is saved to ";
+  write_all(2, msg, sizeof msg - 1);
+  write_all(2, g_crash_path, std::strlen(g_crash_path));
+  write_all(2, "\n", 1);
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+long long now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
+      .count();
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void save(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+}
+
+// --- the mutator ------------------------------------------------------------------------------
+class Mutator {
+public:
+  Mutator(std::uint64_t seed, std::vector<std::string> seeds)
+      : random_(seed), seeds_(std::move(seeds)) {}
+
+  std::string mutant() {
+    std::string text = seeds_[pick(seeds_.size())];
+    const std::size_t edits = 1 + pick(4);
+    for (std::size_t k = 0; k < edits; ++k)
+      mutate(text);
+    return text;
+  }
+
+  /// A few --set overrides for some inputs: real keys with odd values, odd keys.
+  std::vector<std::string> overrides() {
+    std::vector<std::string> out;
+    if (pick(8) != 0)
+      return out;
+    static const char* keys[] = {"grid.cell_size",
+                                 "grid.extent",
+                                 "time.dt",
+                                 "time.cfl",
+                                 "bodies[0].velocity",
+                                 "materials[0].youngs_modulus",
+                                 "bodies.0.min",
+                                 "solver.shape",
+                                 "probes[0].point",
+                                 "output.every_steps",
+                                 "name",
+                                 "stages[0].time.dt",
+                                 "bodies[0].split.alpha",
+                                 "a.b[3].c"};
+    const std::size_t n = 1 + pick(2);
+    for (std::size_t i = 0; i < n; ++i)
+      out.push_back(std::string(keys[pick(std::size(keys))]) + "=" + odd_value());
+    if (pick(10) == 0)
+      out.push_back("no equals sign");
+    return out;
+  }
+
+private:
+  std::size_t pick(std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(random_() % n); }
+
+  std::string odd_value() {
+    static const char* values[] = {"0",
+                                   "-1",
+                                   "1e308",
+                                   "-1e308",
+                                   "nan",
+                                   ".inf",
+                                   "-.inf",
+                                   "1e-308",
+                                   "9e15",
+                                   "1e15",
+                                   "4294967296",
+                                   "[1e308, 1e308]",
+                                   "[0, 0]",
+                                   "[]",
+                                   "{}",
+                                   "~",
+                                   "\"\"",
+                                   "!weird 1",
+                                   "!!binary AA==",
+                                   "1\n---\nx: 1",
+                                   "\"open",
+                                   "[[[[1]]]]",
+                                   "\xff\xfe",
+                                   "1e-9",
+                                   "[-1e9, 1e9]",
+                                   "true",
+                                   "usl",
+                                   "'a,b'",
+                                   "&a 1",
+                                   "*a"};
+    std::string v = values[pick(std::size(values))];
+    if (pick(20) == 0)
+      v = std::string(1 + pick(200000), 'x');
+    return v;
+  }
+
+  std::vector<std::size_t> line_starts(const std::string& text) {
+    std::vector<std::size_t> starts{0};
+    for (std::size_t i = 0; i < text.size(); ++i)
+      if (text[i] == '\n' && i + 1 < text.size())
+        starts.push_back(i + 1);
+    return starts;
+  }
+
+  /// [begin, end) of a random line (without its '\n').
+  std::pair<std::size_t, std::size_t> random_line(const std::string& text) {
+    const auto starts = line_starts(text);
+    const std::size_t b = starts[pick(starts.size())];
+    std::size_t e = text.find('\n', b);
+    if (e == std::string::npos)
+      e = text.size();
+    return {b, e};
+  }
+
+  /// [begin, end) of a random number in the text, if any.
+  bool random_number(const std::string& text, std::size_t& b, std::size_t& e) {
+    std::vector<std::pair<std::size_t, std::size_t>> numbers;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      const bool start = std::isdigit(static_cast<unsigned char>(text[i])) &&
+                         (i == 0 || std::strchr(" [,:-", text[i - 1]) != nullptr);
+      if (!start)
+        continue;
+      std::size_t j = i;
+      while (j < text.size() && std::strchr("0123456789.eE+-", text[j]) != nullptr)
+        ++j;
+      numbers.emplace_back(i, j);
+      i = j;
+    }
+    if (numbers.empty())
+      return false;
+    std::tie(b, e) = numbers[pick(numbers.size())];
+    return true;
+  }
+
+  /// [begin, end) of a random scalar value after "key: ".
+  bool random_value(const std::string& text, std::size_t& b, std::size_t& e) {
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      const auto [lb, le] = random_line(text);
+      const std::size_t colon = text.find(": ", lb);
+      if (colon == std::string::npos || colon >= le)
+        continue;
+      b = colon + 2;
+      e = le;
+      const std::size_t comment = text.find(" #", b);
+      if (comment != std::string::npos && comment < e)
+        e = comment;
+      if (b < e)
+        return true;
+    }
+    return false;
+  }
+
+  void mutate(std::string& text) {
+    if (text.empty()) {
+      text = seeds_[pick(seeds_.size())];
+      return;
+    }
+    std::size_t b = 0, e = 0;
+    switch (pick(13)) {
+    case 0: { // byte flip
+      const std::size_t at = pick(text.size());
+      text[at] =
+          pick(2) ? static_cast<char>(text[at] ^ (1 << pick(8))) : static_cast<char>(pick(256));
+      break;
+    }
+    case 1: { // swap two tokens
+      std::vector<std::pair<std::size_t, std::size_t>> tokens;
+      for (std::size_t i = 0; i < text.size();) {
+        while (i < text.size() && std::strchr(" \n[]{},:", text[i]) != nullptr)
+          ++i;
+        std::size_t j = i;
+        while (j < text.size() && std::strchr(" \n[]{},:", text[j]) == nullptr)
+          ++j;
+        if (j > i)
+          tokens.emplace_back(i, j);
+        i = j;
+      }
+      if (tokens.size() < 2)
+        break;
+      auto x = tokens[pick(tokens.size())], y = tokens[pick(tokens.size())];
+      if (x.first > y.first)
+        std::swap(x, y);
+      if (x.second > y.first)
+        break;
+      const std::string a = text.substr(x.first, x.second - x.first);
+      const std::string c = text.substr(y.first, y.second - y.first);
+      text.replace(y.first, c.size(), a);
+      text.replace(x.first, a.size(), c);
+      break;
+    }
+    case 2: { // delete a line
+      std::tie(b, e) = random_line(text);
+      text.erase(b, std::min(text.size(), e + 1) - b);
+      break;
+    }
+    case 3: { // duplicate a line
+      std::tie(b, e) = random_line(text);
+      text.insert(e, "\n" + text.substr(b, e - b));
+      break;
+    }
+    case 4: { // swap two lines
+      const auto [b1, e1] = random_line(text);
+      const auto [b2, e2] = random_line(text);
+      if (b1 == b2 || (b1 < b2 && e1 >= b2) || (b2 < b1 && e2 >= b1))
+        break;
+      const std::string l1 = text.substr(b1, e1 - b1), l2 = text.substr(b2, e2 - b2);
+      if (b1 < b2) {
+        text.replace(b2, l2.size(), l1);
+        text.replace(b1, l1.size(), l2);
+      } else {
+        text.replace(b1, l1.size(), l2);
+        text.replace(b2, l2.size(), l1);
+      }
+      break;
+    }
+    case 5:
+    case 6: { // a number becomes an extreme
+      if (!random_number(text, b, e))
+        break;
+      static const char* extremes[] = {"0",    "-1",     "1e308", "-1e308", "nan",
+                                       ".nan", ".inf",   "-.inf", "1e-308", "5e-324",
+                                       "9e15", "1e15",   "1e400", "-0",     "4294967296",
+                                       "1e-9", "100000", "0x10",  "1_000",  "2.5"};
+      std::string v = extremes[pick(std::size(extremes))];
+      if (pick(10) == 0)
+        v = "1" + std::string(1 + pick(5000), '0');
+      text.replace(b, e - b, v);
+      break;
+    }
+    case 7: { // a value becomes a huge string
+      if (!random_value(text, b, e))
+        break;
+      text.replace(b, e - b, std::string(1 + pick(pick(2) ? 2000 : 1000000), 'a' + pick(26)));
+      break;
+    }
+    case 8: { // deep nesting as a value
+      if (!random_value(text, b, e))
+        break;
+      const std::size_t depth = 1 + pick(pick(2) ? 80 : 700);
+      const bool map = pick(2) != 0;
+      std::string v;
+      for (std::size_t i = 0; i < depth; ++i)
+        v += map ? "{a: " : "[";
+      v += "1";
+      for (std::size_t i = 0; i < depth; ++i)
+        v += map ? "}" : "]";
+      text.replace(b, e - b, v);
+      break;
+    }
+    case 9: { // a YAML tag before a value
+      if (!random_value(text, b, e))
+        break;
+      static const char* tags[] = {"!weird ", "!!binary ", "!!str ", "!!int ",   "!!float ",
+                                   "!!map ",  "!!seq ",    "! ",     "!<tag:x> "};
+      text.insert(b, tags[pick(std::size(tags))]);
+      break;
+    }
+    case 10: { // stray YAML syntax
+      static const char* bits[] = {
+          "\"",      "'",           "\r",           "\t", "(NUL)", "\xff",
+          "\n---\n", "&a ",         "*a",           "? ", "{",     "[",
+          "]",       "}",           ": ",           "- ", "#",     "|",
+          ">",       "%YAML 1.2\n", "\xef\xbb\xbf", "\\", ",",     "<<: *a\n"};
+      const std::size_t at = pick(text.size() + 1);
+      const std::size_t which = pick(std::size(bits));
+      if (which == 4)
+        text.insert(at, 1, '\0');
+      else
+        text.insert(at, bits[which]);
+      break;
+    }
+    case 11: { // a line of another case
+      const std::string& other = seeds_[pick(seeds_.size())];
+      const auto [ob, oe] = random_line(other);
+      std::tie(b, e) = random_line(text);
+      text.insert(b, other.substr(ob, oe - ob) + "\n");
+      break;
+    }
+    case 12: { // line ends
+      if (pick(2)) {
+        for (char& c : text)
+          if (c == '\n')
+            c = '\r';
+      } else {
+        std::string crlf;
+        for (char c : text) {
+          if (c == '\n')
+            crlf += '\r';
+          crlf += c;
+        }
+        text = crlf;
+      }
+      break;
+    }
+    }
+    if (text.size() > 8000000)
+      text.resize(8000000);
+  }
+
+  std::mt19937_64 random_;
+  std::vector<std::string> seeds_;
+};
+
+// --- one input --------------------------------------------------------------------------------
+enum class Outcome { Refused, Parsed, Built };
+
+/// Reads `text` as the CLI would, and builds the scene when the estimate is small. Throws what
+/// the reader throws other than InputError.
+Outcome run_one(const std::string& text, const std::vector<std::string>& overrides) {
+  try {
+    const talus::CaseSpec spec = talus::read_case_text(text, "fuzz.yaml", overrides);
+    // The reader has refused what does not fit the machine; the fuzzer builds only small scenes
+    // so that it tries many inputs.
+    if (talus::estimate_memory(spec).total_bytes > 64e6)
+      return Outcome::Parsed;
+    const talus::Scene<2> scene = talus::build_scene(spec);
+    return Outcome::Built;
+  } catch (const talus::InputError&) {
+    return Outcome::Refused;
+  }
+}
+
+/// `talus check` on the input, through a file; the exit code, or -1 on a timeout.
+int run_cli(const std::string& talus, const fs::path& file, const std::vector<std::string>& sets,
+            int seconds) {
+  std::vector<std::string> args{talus, "check", file.string()};
+  for (const auto& s : sets) {
+    args.push_back("--set");
+    args.push_back(s);
+  }
+  std::vector<char*> argv;
+  for (auto& a : args)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDWR);
+    ::dup2(null, 0);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  const auto deadline = Clock::now() + std::chrono::seconds(seconds);
+  int status = 0;
+  while (true) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid)
+      break;
+    if (Clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (WIFEXITED(status))
+    return WEXITSTATUS(status);
+  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+struct Options {
+  double seconds = 30;
+  std::uint64_t seed = 1;
+  std::string talus;
+  std::size_t cli_every = 50;
+  double watchdog = 5;
+  fs::path crash_dir = ".";
+  std::vector<fs::path> corpus;
+  std::string replay;
+};
+
+int usage() {
+  std::fprintf(stderr, "usage: talus_fuzz_case_reader [--seconds N] [--seed S] [--talus PATH] "
+                       "[--cli-every K] [--watchdog SECONDS] [--crash-dir DIR] [--corpus DIR]... "
+                       "| --replay FILE\n");
+  return 2;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--seconds" && has_value)
+      o.seconds = std::atof(argv[++i]);
+    else if (a == "--seed" && has_value)
+      o.seed = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--talus" && has_value)
+      o.talus = argv[++i];
+    else if (a == "--cli-every" && has_value)
+      o.cli_every = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--watchdog" && has_value)
+      o.watchdog = std::atof(argv[++i]);
+    else if (a == "--crash-dir" && has_value)
+      o.crash_dir = argv[++i];
+    else if (a == "--corpus" && has_value)
+      o.corpus.emplace_back(argv[++i]);
+    else if (a == "--replay" && has_value)
+      o.replay = argv[++i];
+    else
+      return usage();
+  }
+  if (!o.replay.empty()) {
+    const std::string text = read_text(o.replay);
+    try {
+      const Outcome r = run_one(text, {});
+      std::printf("fuzz: replay %s: %s\n", o.replay.c_str(),
+                  r == Outcome::Refused ? "refused (InputError)" : "accepted");
+      return 0;
+    } catch (const std::exception& e) {
+      std::printf("fuzz: replay %s: unexpected exception: %s\n", o.replay.c_str(), e.what());
+      return 1;
+    }
+  }
+  if (o.corpus.empty())
+    o.corpus = {fs::path(TALUS_SOURCE_DIR) / "cases", fs::path(TALUS_SOURCE_DIR) / "verification"};
+  std::vector<std::string> seeds;
+  for (const fs::path& dir : o.corpus)
+    for (const auto& entry : fs::directory_iterator(dir))
+      if (entry.path().extension() == ".yaml")
+        seeds.push_back(read_text(entry.path()));
+  if (seeds.empty()) {
+    std::fprintf(stderr, "fuzz: no .yaml seeds found\n");
+    return 2;
+  }
+  fs::create_directories(o.crash_dir);
+  const std::string crash_prefix =
+      (o.crash_dir / ("fuzz-crash-" + std::to_string(o.seed) + "-")).string();
+
+  for (int sig : {SIGSEGV, SIGABRT, SIGFPE, SIGBUS, SIGILL})
+    ::signal(sig, on_crash);
+
+  Mutator mutator(o.seed, seeds);
+  std::atomic<bool> done{false};
+  std::string hang_file;
+  std::thread watchdog([&] {
+    while (!done) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (g_busy && static_cast<double>(now_ns() - g_started_ns) > o.watchdog * 1e9) {
+        const std::string file = std::string(g_crash_path) + ".hang.yaml";
+        if (g_input != nullptr)
+          save(file, *g_input);
+        std::fprintf(stderr, "fuzz: HANG: an input took more than %g s; saved to %s\n", o.watchdog,
+                     file.c_str());
+        std::fflush(stderr);
+        std::_Exit(1);
+      }
+    }
+  });
+
+  const auto start = Clock::now();
+  std::size_t inputs = 0, refused = 0, parsed = 0, built = 0, cli_runs = 0, failures = 0;
+  double slowest = 0;
+  const fs::path cli_file =
+      fs::temp_directory_path() / ("talus-fuzz-" + std::to_string(::getpid()) + ".yaml");
+  while (std::chrono::duration<double>(Clock::now() - start).count() < o.seconds) {
+    const std::string text = mutator.mutant();
+    const std::vector<std::string> sets = mutator.overrides();
+    const std::string crash_path = crash_prefix + std::to_string(inputs) + ".yaml";
+    std::snprintf(g_crash_path, sizeof g_crash_path, "%s", crash_path.c_str());
+    g_input = &text;
+    g_started_ns = now_ns();
+    g_busy = true;
+    const auto t0 = Clock::now();
+    try {
+      switch (run_one(text, sets)) {
+      case Outcome::Refused:
+        ++refused;
+        break;
+      case Outcome::Parsed:
+        ++parsed;
+        break;
+      case Outcome::Built:
+        ++parsed;
+        ++built;
+        break;
+      }
+    } catch (const std::exception& e) {
+      ++failures;
+      save(crash_path, text);
+      std::fprintf(stderr, "fuzz: FAILURE: exception other than InputError: %s; saved to %s\n",
+                   e.what(), crash_path.c_str());
+    } catch (...) {
+      ++failures;
+      save(crash_path, text);
+      std::fprintf(stderr, "fuzz: FAILURE: unknown exception; saved to %s\n", crash_path.c_str());
+    }
+    g_busy = false;
+    slowest = std::max(slowest, std::chrono::duration<double>(Clock::now() - t0).count());
+    ++inputs;
+    if (!o.talus.empty() && o.cli_every > 0 && inputs % o.cli_every == 0) {
+      save(cli_file, text);
+      const int code = run_cli(o.talus, cli_file, sets, static_cast<int>(o.watchdog) + 5);
+      ++cli_runs;
+      if (code < 0 || code > 3) {
+        ++failures;
+        const std::string file = crash_prefix + std::to_string(inputs) + ".cli.yaml";
+        save(file, text);
+        std::fprintf(stderr, "fuzz: FAILURE: talus check exited %d%s; saved to %s\n", code,
+                     code < 0 ? " (timeout)" : "", file.c_str());
+      }
+    }
+    if (failures >= 10)
+      break;
+  }
+  done = true;
+  watchdog.join();
+  std::error_code ec;
+  fs::remove(cli_file, ec);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf("fuzz: seed %llu, %.1f s, %zu inputs (%zu refused with InputError, %zu parsed, %zu "
+              "scenes built), %zu through talus check, slowest input %.3f s, %zu failures\n",
+              static_cast<unsigned long long>(o.seed), seconds, inputs, refused, parsed, built,
+              cli_runs, slowest, failures);
+  return failures == 0 ? 0 : 1;
+}
