@@ -35,6 +35,12 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
   std::size_t line_begin = 0;
   char previous = '\n'; // the last character on this line that is not a space
   bool comment = false;
+  // The kind of the current document's root: yaml-cpp 0.7 loops forever (allocating) on a ','
+  // where the root of a document should start, or after a root that is a flow collection.
+  enum class Root { None, Block, Flow } root = Root::None;
+  const auto stray_comma = [](std::size_t at) {
+    return TextProblem{at, "a comma outside any [list] or {map}: it separates nothing here"};
+  };
   const auto too_deep = [](std::size_t at) {
     return TextProblem{at, fmt::format("the maps and lists nest more than {} levels deep here (a "
                                        "case file needs fewer than 10); is a bracket or an "
@@ -73,6 +79,20 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
       if (c == ' ')
         continue;
       line_start = false;
+      const bool at_column_0 = i == line_begin;
+      if (at_column_0 && flow == 0 &&
+          (text.compare(i, 3, "---") == 0 || text.compare(i, 3, "...") == 0) &&
+          (i + 3 == text.size() || text[i + 3] == ' ' || text[i + 3] == '\n' ||
+           text[i + 3] == '\r')) {
+        root = Root::None; // a new document
+        indents.clear();
+        i += 2;
+        continue;
+      }
+      if (at_column_0 && c == '%' && root == Root::None) {
+        comment = true; // a directive line
+        continue;
+      }
       if (flow == 0 && c != '#') {
         push_level(i - line_begin);
         // "- - x": every dash of a block list item opens one more level.
@@ -92,6 +112,13 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
     if (c == '#' && (before == ' ' || before == '\n')) {
       comment = true;
       continue;
+    }
+    if (c != ' ' && c != '\t' && c != '\r' && root == Root::None) {
+      if (c == ',')
+        return stray_comma(i);
+      root = (c == '[' || c == '{') ? Root::Flow : Root::Block;
+    } else if (c == ',' && flow == 0 && root == Root::Flow) {
+      return stray_comma(i);
     }
     const bool token_start =
         before == ' ' || before == '\n' || before == '[' || before == '{' || before == ',';

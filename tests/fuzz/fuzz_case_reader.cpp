@@ -168,7 +168,7 @@ private:
                                    "*a"};
     std::string v = values[pick(std::size(values))];
     if (pick(20) == 0)
-      v = std::string(1 + pick(200000), 'x');
+      v = std::string(1 + pick(100000), 'x'); // one argument holds at most 128 kB
     return v;
   }
 
