@@ -325,6 +325,30 @@ TEST_F(CliInputErrors, TheCostOfABadValueIsBounded) {
   });
 }
 
+// Inputs the fuzzer (tests/fuzz) found, each a regression test: yaml-cpp 0.7 loops forever,
+// allocating, on a comma where a document's root should start or after a root that is a flow
+// collection (found as a comment line of cases/slope_runout.yaml that gained a leading ',').
+TEST_F(CliInputErrors, FuzzFindingsAreRefusedQuickly) {
+  expect_refused({
+      {"a comma before the first key",
+       ",# a comment that lost its place\n" + kCase,
+       {},
+       {"case.yaml:1:1: a comma outside any [list] or {map}: it separates nothing here"}},
+      {"a comma after a flow-map document",
+       "{name: x}\n,\n",
+       {},
+       {"case.yaml:2:1: a comma outside any [list] or {map}"}},
+      {"a comma after a document marker",
+       kCase + "--- ,\n",
+       {},
+       {"case.yaml:27:5: a comma outside any [list] or {map}"}},
+      {"a --set value that is a comma",
+       kCase,
+       {"time.cfl=,"},
+       {"--set: key 'time.cfl': the value ',': a comma outside any [list] or {map}"}},
+  });
+}
+
 TEST_F(CliInputErrors, InfoListsEveryWordTheReaderTakes) {
   const Outcome r = talus({"info"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
