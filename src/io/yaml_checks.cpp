@@ -89,6 +89,10 @@ std::optional<TextProblem> check_raw_text(std::string_view text) {
         i += 2;
         continue;
       }
+      // A line that starts with a comma outside brackets continues nothing a case file has,
+      // and yaml-cpp 0.7 loops on it when it sits left of the root's indentation.
+      if (c == ',' && flow == 0)
+        return stray_comma(i);
       if (at_column_0 && c == '%' && root == Root::None) {
         comment = true; // a directive line
         continue;
