@@ -11,7 +11,8 @@
 // goes through the real binary (`talus check`), whose exit code must lie in 0-3.
 //
 //   talus_fuzz_case_reader --seconds 30 --seed 1 [--talus build/talus] [--crash-dir DIR]
-//   talus_fuzz_case_reader --replay saved.yaml        (one input, as the loop would run it)
+//   talus_fuzz_case_reader --replay saved.yaml        (one input, as the loop would run it,
+//                                                     with saved.yaml.set's overrides)
 #include "talus/core/errors.hpp"
 #include "talus/core/memory_estimate.hpp"
 #include "talus/core/scene.hpp"
@@ -43,6 +44,7 @@ namespace {
 
 // --- what the signal handler and the watchdog need --------------------------------------------
 const std::string* g_input = nullptr; // the input being read
+std::vector<std::string> g_sets;      // its --set overrides (written before it is read)
 char g_crash_path[4096] = {};         // where a crash saves it
 std::atomic<long long> g_started_ns{0};
 std::atomic<bool> g_busy{false};
@@ -89,6 +91,38 @@ std::string read_text(const fs::path& file) {
 void save(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;
+}
+
+/// The --set overrides of a saved input, beside it in <file>.set: one per line, with '\\' and
+/// line feeds escaped ("\\\\", "\\n"), as --replay reads them back.
+void save_overrides(const fs::path& file, const std::vector<std::string>& sets) {
+  if (sets.empty())
+    return;
+  std::ofstream out(file.string() + ".set", std::ios::binary);
+  for (const std::string& s : sets) {
+    for (const char c : s)
+      out << (c == '\\' ? "\\\\" : c == '\n' ? "\\n" : std::string(1, c));
+    out << '\n';
+  }
+}
+
+std::vector<std::string> read_overrides(const fs::path& file) {
+  std::vector<std::string> sets;
+  std::ifstream in(file.string() + ".set", std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::string s;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      if (line[i] == '\\' && i + 1 < line.size()) {
+        s += line[i + 1] == 'n' ? '\n' : line[i + 1];
+        ++i;
+      } else {
+        s += line[i];
+      }
+    }
+    sets.push_back(s);
+  }
+  return sets;
 }
 
 // --- the mutator ------------------------------------------------------------------------------
@@ -484,7 +518,7 @@ int main(int argc, char** argv) {
   if (!o.replay.empty()) {
     const std::string text = read_text(o.replay);
     try {
-      const Outcome r = run_one(text, {});
+      const Outcome r = run_one(text, read_overrides(o.replay));
       std::printf("fuzz: replay %s: %s\n", o.replay.c_str(),
                   r == Outcome::Refused ? "refused (InputError)" : "accepted");
       return 0;
@@ -521,6 +555,7 @@ int main(int argc, char** argv) {
         const std::string file = std::string(g_crash_path) + ".hang.yaml";
         if (g_input != nullptr)
           save(file, *g_input);
+        save_overrides(file, g_sets);
         std::fprintf(stderr, "fuzz: HANG: an input took more than %g s; saved to %s\n", o.watchdog,
                      file.c_str());
         std::fflush(stderr);
@@ -537,6 +572,7 @@ int main(int argc, char** argv) {
   while (std::chrono::duration<double>(Clock::now() - start).count() < o.seconds) {
     const std::string text = mutator.mutant();
     const std::vector<std::string> sets = mutator.overrides();
+    g_sets = sets;
     const std::string crash_path = crash_prefix + std::to_string(inputs) + ".yaml";
     std::snprintf(g_crash_path, sizeof g_crash_path, "%s", crash_path.c_str());
     g_input = &text;
@@ -559,11 +595,13 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       ++failures;
       save(crash_path, text);
+      save_overrides(crash_path, sets);
       std::fprintf(stderr, "fuzz: FAILURE: exception other than InputError: %s; saved to %s\n",
                    e.what(), crash_path.c_str());
     } catch (...) {
       ++failures;
       save(crash_path, text);
+      save_overrides(crash_path, sets);
       std::fprintf(stderr, "fuzz: FAILURE: unknown exception; saved to %s\n", crash_path.c_str());
     }
     g_busy = false;
@@ -577,6 +615,7 @@ int main(int argc, char** argv) {
         ++failures;
         const std::string file = crash_prefix + std::to_string(inputs) + ".cli.yaml";
         save(file, text);
+        save_overrides(file, sets);
         std::fprintf(stderr, "fuzz: FAILURE: talus check exited %d%s; saved to %s\n", code,
                      code < 0 ? " (timeout)" : "", file.c_str());
       }
