@@ -73,8 +73,10 @@ Measured measure(const std::string& text) {
 // would let through cases that do not). Measured ratios estimate / real heap (Release build,
 // glibc 2.36): explicit 1.14 to 1.24 (the estimate carries one frame buffer, 72 B per point,
 // that the test does not allocate), implicit 0.90 to 0.92 (the sparse factor's fill is a model,
-// 8 n log2 n entries). The bounds [0.7, 1.6] leave room for allocator and library differences
-// and still fail when a per-point or per-node array is left out (each is 5-60 % of the total).
+// 8 n log2 n entries). glibc's accounting is deterministic, so the bounds [0.85, 1.35] can be
+// tight enough to fail when an array of about a tenth of the heap is left out: without the
+// implicit solver's per-point trial state the implicit ratio is 0.82 and the test fails (tried).
+// Smaller parts (the vector growth of the point arrays, 3 %) are below what it resolves.
 TEST(MemoryEstimate, MatchesTheHeapOfASmallScene) {
   struct Variant {
     std::string label, text;
@@ -94,8 +96,8 @@ TEST(MemoryEstimate, MatchesTheHeapOfASmallScene) {
                 v.label.c_str(), static_cast<long long>(m.points), m.points_estimated, m.estimate,
                 m.real, ratio);
     EXPECT_NEAR(m.points_estimated, static_cast<double>(m.points), 0.02 * m.points);
-    EXPECT_GT(ratio, 0.7);
-    EXPECT_LT(ratio, 1.6);
+    EXPECT_GT(ratio, 0.85);
+    EXPECT_LT(ratio, 1.35);
   }
 }
 
