@@ -177,12 +177,24 @@ namespace talus::detail {
 
 namespace {
 
+/// The cost of one inside test of a body (a polygon tests every edge).
+double inside_cost(const BodySpec& b) {
+  return b.shape == BodyShape::Polygon ? static_cast<double>(b.vertices.size()) : 1.0;
+}
+
+bool boxes_overlap(const BodySpec& a, const BodySpec& b) {
+  Vec2 alo = Vec2::Zero(), ahi = Vec2::Zero(), blo = Vec2::Zero(), bhi = Vec2::Zero();
+  bounding_box(a, alo, ahi);
+  bounding_box(b, blo, bhi);
+  return alo.x() <= bhi.x() && blo.x() <= ahi.x() && alo.y() <= bhi.y() && blo.y() <= ahi.y();
+}
+
 /// The first lattice site of body a (spacing h / particles_per_cell, its placement offset) that
 /// lies inside both a and b and inside the grid: a place where both bodies would put a point.
-/// At most about kMaxSites sites are tried (every k-th beyond that), so that the check stays well
-/// under a second for any body the memory estimate lets through.
-std::optional<Vec2> shared_site(const GridSpec& g, const BodySpec& a, const BodySpec& b) {
-  constexpr double kMaxSites = 4e6;
+/// At most about `budget` inside tests are spent (every k-th site beyond that), so that the check
+/// stays well under a second for any bodies the memory estimate lets through.
+std::optional<Vec2> shared_site(const GridSpec& g, const BodySpec& a, const BodySpec& b,
+                                double budget) {
   Vec2 alo = Vec2::Zero(), ahi = Vec2::Zero(), blo = Vec2::Zero(), bhi = Vec2::Zero();
   bounding_box(a, alo, ahi);
   bounding_box(b, blo, bhi);
@@ -198,7 +210,8 @@ std::optional<Vec2> shared_site(const GridSpec& g, const BodySpec& a, const Body
         std::ceil((hi[d] - origin[d]) / spacing) - first[static_cast<std::size_t>(d)];
   }
   const double sites = count[0] * count[1];
-  const double stride = sites > kMaxSites ? std::ceil(std::sqrt(sites / kMaxSites)) : 1.0;
+  const double max_sites = std::max(1.0, budget / (inside_cost(a) + inside_cost(b)));
+  const double stride = sites > max_sites ? std::ceil(std::sqrt(sites / max_sites)) : 1.0;
   const Vec2 grid_hi = g.origin + g.extent;
   for (double j = 0; j < count[1]; j += stride)
     for (double i = 0; i < count[0]; i += stride) {
@@ -217,11 +230,20 @@ std::optional<Vec2> shared_site(const GridSpec& g, const BodySpec& a, const Body
 // one (MPM has one velocity field), which no case means. Bodies may touch along an edge.
 void Validator::bodies_apart(const std::vector<Item>& items, const std::vector<BodySpec>& bodies,
                              const GridSpec& grid) const {
+  // About 4e7 inside tests in all (a few tenths of a second), shared among the pairs whose
+  // bounding boxes meet.
+  double pairs = 0;
+  for (std::size_t j = 1; j < bodies.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i)
+      pairs += boxes_overlap(bodies[i], bodies[j]) ? 1 : 0;
+  const double budget = std::max(1e4, 2e7 / std::max(1.0, pairs));
   for (std::size_t j = 1; j < bodies.size(); ++j)
     for (std::size_t i = 0; i < j; ++i) {
-      std::optional<Vec2> q = shared_site(grid, bodies[j], bodies[i]);
+      if (!boxes_overlap(bodies[i], bodies[j]))
+        continue;
+      std::optional<Vec2> q = shared_site(grid, bodies[j], bodies[i], budget);
       if (!q)
-        q = shared_site(grid, bodies[i], bodies[j]);
+        q = shared_site(grid, bodies[i], bodies[j], budget);
       if (q)
         fail(items[j], fmt::format("body '{}' overlaps body '{}': the point {} lies in both, so "
                                    "both would put material points there (twice the mass); "
