@@ -9,7 +9,9 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/time.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -62,6 +64,7 @@ inline std::set<std::string> directory_listing(const fs::path& dir) {
 /// captured output.
 struct Outcome {
   int exit_code = -1;
+  double cpu_seconds = 0; ///< user + system time of the process (and its re-execution)
   std::string out;
   std::string err;
   std::string describe() const {
@@ -132,7 +135,7 @@ public:
     if (reaped_)
       return outcome_;
     int status = 0;
-    const pid_t r = ::waitpid(pid_, &status, WNOHANG);
+    const pid_t r = ::wait4(pid_, &status, WNOHANG, &usage_);
     if (r != pid_)
       return std::nullopt;
     finish(status);
@@ -145,7 +148,7 @@ public:
       int status = 0;
       pid_t r;
       do
-        r = ::waitpid(pid_, &status, 0);
+        r = ::wait4(pid_, &status, 0, &usage_);
       while (r < 0 && errno == EINTR);
       finish(r == pid_ ? status : -1);
     }
@@ -178,9 +181,14 @@ private:
     outcome_.exit_code = status == -1 ? -1 : decode_status(status);
     outcome_.out = read_file(out_file_);
     outcome_.err = read_file(err_file_);
+    const auto seconds = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    outcome_.cpu_seconds = seconds(usage_.ru_utime) + seconds(usage_.ru_stime);
   }
 
   pid_t pid_ = -1;
+  struct rusage usage_ {};
   bool reaped_ = false;
   Outcome outcome_;
   fs::path out_file_, err_file_;

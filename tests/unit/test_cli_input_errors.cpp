@@ -96,9 +96,11 @@ protected:
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         EXPECT_EQ(r.exit_code, 2) << r.describe();
-        // "Well under a second": the binary starts twice (it re-executes itself for the OpenMP
-        // wait policy); the allowance covers a loaded 2-core machine.
-        EXPECT_LT(seconds, 1.0) << r.describe();
+        // "Well under a second" of the process's own time (the machine may be busy with other
+        // tests; measured unloaded: 0.1 s, 0.5 s for the 5 MB inputs, most of it yaml-cpp
+        // scanning them), and no hang in wall time.
+        EXPECT_LT(r.cpu_seconds, 1.0) << r.describe();
+        EXPECT_LT(seconds, 10.0) << r.describe();
         for (const auto& text : c.expected)
           EXPECT_NE(r.err.find(text), std::string::npos) << "stderr lacks \"" << text << "\"\n"
                                                          << r.describe();
