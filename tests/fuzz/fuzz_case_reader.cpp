@@ -96,7 +96,7 @@ void save(const fs::path& file, const std::string& text) {
 }
 
 /// The --set overrides of a saved input, beside it in <file>.set: one per line, with '\\' and
-/// line feeds escaped ("\\\\", "\\n"), as --replay reads them back.
+/// line feeds escaped (a backslash as two, a line feed as backslash-n), as --replay reads them.
 void save_overrides(const fs::path& file, const std::vector<std::string>& sets) {
   if (sets.empty())
     return;
@@ -128,7 +128,12 @@ std::vector<std::string> read_overrides(const fs::path& file) {
 }
 
 // --- one input --------------------------------------------------------------------------------
-enum class Outcome { Refused, Parsed, Built };
+enum class Outcome { Refused, Parsed, Built, Large };
+
+/// The fuzzer builds scenes below this estimate, and sends only those (and refused inputs) to
+/// `talus check`, which would build scenes up to 1 GB: a mutant that happens to be a valid case
+/// of hundreds of megabytes is not a bug, and must not make the run slow or memory-hungry.
+constexpr double kSmallScene = 64e6;
 
 /// Reads `text` as the CLI would, and builds the scene when the estimate is small. Throws what
 /// the reader throws other than InputError.
@@ -137,8 +142,8 @@ Outcome run_one(const std::string& text, const std::vector<std::string>& overrid
     const talus::CaseSpec spec = talus::read_case_text(text, "fuzz.yaml", overrides);
     // The reader has refused what does not fit the machine; the fuzzer builds only small scenes
     // so that it tries many inputs.
-    if (talus::estimate_memory(spec).total_bytes > 64e6)
-      return Outcome::Parsed;
+    if (talus::estimate_memory(spec).total_bytes > kSmallScene)
+      return Outcome::Large;
     const talus::Scene<2> scene = talus::build_scene(spec);
     return Outcome::Built;
   } catch (const talus::InputError&) {
@@ -293,12 +298,15 @@ int main(int argc, char** argv) {
     g_started_ns = now_ns();
     g_busy = true;
     const auto t0 = Clock::now();
+    Outcome outcome = Outcome::Refused;
     try {
-      switch (run_one(text, sets)) {
+      outcome = run_one(text, sets);
+      switch (outcome) {
       case Outcome::Refused:
         ++refused;
         break;
       case Outcome::Parsed:
+      case Outcome::Large:
         ++parsed;
         break;
       case Outcome::Built:
@@ -321,7 +329,8 @@ int main(int argc, char** argv) {
     g_busy = false;
     slowest = std::max(slowest, std::chrono::duration<double>(Clock::now() - t0).count());
     ++inputs;
-    if (!o.talus.empty() && o.cli_every > 0 && inputs % o.cli_every == 0) {
+    if (!o.talus.empty() && o.cli_every > 0 && inputs % o.cli_every == 0 &&
+        outcome != Outcome::Large) {
       save(cli_file, text);
       const int code = run_cli(o.talus, cli_file, sets, static_cast<int>(o.watchdog) + 5);
       ++cli_runs;
