@@ -1,8 +1,12 @@
-// talus: the command-line front end. Sub-commands: run, fos, adapt, verify, bench, render, info.
+// talus: the command-line front end. Sub-commands: run, fos, adapt, check, verify, bench, render,
+// info.
 // Exit codes: 0 success, 1 other error, 2 bad input, 3 numerical failure.
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
+#include "talus/core/memory_estimate.hpp"
+#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/io/case_vocabulary.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/post/render.hpp"
 #include "talus/solver/run.hpp"
@@ -25,26 +29,83 @@ namespace {
 using namespace talus;
 
 int print_info() {
+  // Every enumerated word of a case file comes from the tables the reader validates against
+  // (talus/io/case_vocabulary.hpp), so this list cannot go stale.
+  const auto words = [](const std::vector<std::string>& names) {
+    return fmt::format("{}", fmt::join(names, ", "));
+  };
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
   fmt::print("dimension       2 (plane strain)\n");
-  fmt::print("analyses        explicit (USL, USF, MUSL; FLIP/PIC or APIC), implicit_quasistatic, "
-             "implicit_dynamic\n");
-  fmt::print("shape functions linear, gimp (uGIMP)\n");
-  fmt::print("materials       linear_elastic, neo_hookean, hencky\n");
+  fmt::print("analyses        {}\n", words(choice_names(analysis_choices())));
+  fmt::print("explicit scheme {}\n", words(choice_names(update_scheme_choices())));
+  fmt::print("transfers       {} (solver.flip blends FLIP and PIC)\n",
+             words(choice_names(transfer_scheme_choices())));
+  fmt::print("shape functions {}\n", words(choice_names(shape_function_choices())));
+  fmt::print("elastic models  {}\n", words(material_model_names(false)));
+  fmt::print("plastic models  {}\n", words(material_model_names(true)));
+  fmt::print("body shapes     {}\n", words(choice_names(body_shape_choices())));
+  fmt::print("output fields   {}\n", words(choice_names(output_field_choices())));
   const char* wait_policy = std::getenv("OMP_WAIT_POLICY");
   fmt::print("OpenMP threads  {} available, waiting {}\n", omp_get_max_threads(),
              wait_policy != nullptr ? wait_policy : "(libgomp default: spinning)");
-  fmt::print("linear solvers  {}\n", fmt::join(available_linear_solvers(), ", "));
+  fmt::print("linear solvers  {}\n", words(available_linear_solvers()));
   fmt::print("Newton driver   SUNDIALS KINSOL {}\n", TALUS_SUNDIALS_VERSION);
   fmt::print("results         HDF5 + XDMF (ParaView), CSV, JSON\n");
   fmt::print("data directory  {}\n", verification_dir().parent_path().string());
   return kExitOk;
 }
 
+/// The estimate against what the machine has free right now: a case that fits in the machine
+/// but not in its available memory may still run (the kernel reclaims caches), but the user
+/// should know before a long run starts.
+void warn_if_memory_is_short(const CaseSpec& spec) {
+  const MemoryEstimate estimate = estimate_memory(spec);
+  const MachineMemory machine = machine_memory();
+  if (estimate.total_bytes > machine.available_bytes)
+    fmt::print(stderr,
+               "talus: warning: the case needs about {}, more than the {} available now "
+               "(MemAvailable of /proc/meminfo)\n",
+               format_bytes(estimate.total_bytes), format_bytes(machine.available_bytes));
+}
+
+/// talus check: reads and validates the case with its overrides and prints what it would
+/// allocate; writes nothing. Exit 0, or 2 for bad input.
+int check_command(const std::string& case_file, const std::vector<std::string>& overrides) {
+  const CaseSpec spec = read_case_file(case_file, overrides);
+  const MemoryEstimate estimate = estimate_memory(spec);
+  const MachineMemory machine = machine_memory();
+  // The scene is the last place a case can be refused (a velocity expression that is NaN at a
+  // point, a probe index beyond the points, an initial stress outside the yield surface). It is
+  // built when that is quick; a case of gigabytes gets those checks at the start of its run.
+  constexpr double kSceneCheckBytes = 1e9;
+  if (estimate.total_bytes <= kSceneCheckBytes) {
+    const Scene<2> scene = build_scene(spec);
+    fmt::print("{}: valid case '{}', {} material points\n", case_file, spec.name,
+               scene.particles.size());
+  } else {
+    fmt::print("{}: valid case '{}' (the scene, estimated above {}, is built and checked when "
+               "the run starts)\n",
+               case_file, spec.name, format_bytes(kSceneCheckBytes));
+  }
+  fmt::print("  grid      {:g} x {:g} cells of {:g} m, {:.6g} nodes\n", estimate.cells_x,
+             estimate.cells_y, spec.grid.cell_size, estimate.nodes);
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b)
+    fmt::print("  body      {}: about {:.6g} material points\n", spec.bodies[b].name,
+               estimate.body_points[b]);
+  fmt::print("  memory    about {}\n", estimate.describe());
+  if (estimate.split_growth > 1)
+    fmt::print("  splitting may multiply the points of a splitting body by up to {:g}\n",
+               estimate.split_growth);
+  fmt::print("  machine   {} in all ({}), {} available now\n", format_bytes(machine.total_bytes),
+             machine.source, format_bytes(machine.available_bytes));
+  return kExitOk;
+}
+
 int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
                 const std::string& out, bool force, int threads) {
   const CaseSpec spec = read_case_file(case_file, overrides);
+  warn_if_memory_is_short(spec);
   RunOptions options;
   options.out_dir = out;
   options.force = force;
@@ -199,6 +260,12 @@ int main(int argc, char** argv) {
                          "voxels or points (default: voxels when the run wrote them)");
   render_cmd->add_option("-o,--output", render_options.output, "Output picture (.png)")->required();
 
+  auto* check = app.add_subcommand(
+      "check", "Read and validate a case (with its --set overrides) and print its memory "
+               "estimate; writes nothing (exit 0, or 2 for bad input)");
+  check->add_option("case", case_file, "Case file (YAML)")->required();
+  check->add_option("--set", overrides, "Override a case key (repeatable)");
+
   auto* info = app.add_subcommand("info", "Version, build options and available backends");
 
   try {
@@ -223,6 +290,8 @@ int main(int argc, char** argv) {
       return run_bench(bench_options);
     if (*render_cmd)
       return render(render_options);
+    if (*check)
+      return check_command(case_file, overrides);
     if (*info)
       return print_info();
   } catch (const InputError& e) {

@@ -1,5 +1,6 @@
 #include "talus/core/scene.hpp"
 
+#include "talus/core/body_geometry.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/expression.hpp"
 #include "talus/core/splitting.hpp"
@@ -18,54 +19,6 @@ const char* face_name(int face) {
 }
 
 namespace {
-
-bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& q) {
-  // Crossing-number test on a half-open rule, so a lattice point on an edge is counted once.
-  bool in = false;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[j];
-    if ((a.y() > q.y()) != (b.y() > q.y())) {
-      const double x_cross = a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (q.x() < x_cross)
-        in = !in;
-    }
-  }
-  return in;
-}
-
-bool inside_body(const BodySpec& b, const Vec2& q) {
-  switch (b.shape) {
-  case BodyShape::Rectangle:
-    return q.x() >= b.min.x() && q.x() <= b.max.x() && q.y() >= b.min.y() && q.y() <= b.max.y();
-  case BodyShape::Disc:
-    return (q - b.centre).squaredNorm() <= b.radius * b.radius;
-  case BodyShape::Polygon:
-    return inside_polygon(b.vertices, q);
-  }
-  return false;
-}
-
-void bounding_box(const BodySpec& b, Vec2& lo, Vec2& hi) {
-  switch (b.shape) {
-  case BodyShape::Rectangle:
-    lo = b.min;
-    hi = b.max;
-    return;
-  case BodyShape::Disc:
-    lo = b.centre.array() - b.radius;
-    hi = b.centre.array() + b.radius;
-    return;
-  case BodyShape::Polygon:
-    lo = hi = b.vertices.front();
-    for (const Vec2& v : b.vertices) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-    return;
-  }
-}
 
 // The cell-centred lattice of the sub-cells of spacing h / n (n per direction) that covers
 // [lo, hi], aligned with the grid and shifted by `offset` spacings; f(site, spacing) for each
@@ -220,12 +173,14 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
         const double value = velocity(x.x(), x.y());
         if (!std::isfinite(value))
           throw std::invalid_argument(fmt::format(
-              "velocity expression '{}' is {} at ({:g}, {:g})",
-              body.velocity_expression[static_cast<std::size_t>(d)], value, x.x(), x.y()));
+              "velocity expression '{}' is {} at ({:g}, {:g}), the position of a point of body "
+              "'{}'",
+              body.velocity_expression[static_cast<std::size_t>(d)],
+              std::isnan(value) ? "not a number (NaN)" : "infinite", x.x(), x.y(), body.name));
         P.v[static_cast<std::size_t>(p)][d] = value;
       }
     } catch (const std::invalid_argument& e) {
-      throw InputError(body.where, e.what());
+      throw InputError(body.velocity_where[static_cast<std::size_t>(d)], e.what());
     }
   }
   if (body.angular_velocity != 0.0) {
@@ -368,9 +323,7 @@ void apply_initial_stress(Scene<2>& scene) {
       scene.materials[static_cast<std::size_t>(body.material_index)]->set_initial_stress(ids,
                                                                                          P.stress);
     } catch (const InputError& e) {
-      SourceLocation where = body.where;
-      where.key_path += ".initial_stress";
-      throw InputError(where, e.detail());
+      throw InputError(init.where, e.detail());
     }
   }
 }
@@ -440,7 +393,7 @@ Scene<2> build_scene(const CaseSpec& spec) {
     if (probe.particle) {
       p = *probe.particle;
       if (p >= scene.particles.size())
-        throw InputError(probe.where,
+        throw InputError(probe.particle_where,
                          fmt::format("probe '{}' names particle {}, but the scene has {} "
                                      "particles (0 to {})",
                                      probe.name, p, scene.particles.size(),

@@ -1,4 +1,5 @@
 // --set overrides on the parsed case tree, plus the small string helpers the reader shares.
+#include "yaml_checks.hpp"
 #include "yaml_support.hpp"
 
 #include "talus/core/errors.hpp"
@@ -29,12 +30,19 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 }
 
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates) {
+  if (word.size() > kMaxSuggestedWord)
+    return "";
   // Allow one edit for very short words, otherwise about one edit in three characters (at
   // least two), which catches typos and transpositions without suggesting unrelated keys.
   const std::size_t limit = word.size() <= 3 ? 1 : std::max<std::size_t>(2, word.size() / 3);
   std::string best;
   std::size_t best_distance = limit + 1;
   for (const auto& candidate : candidates) {
+    // The distance is at least the difference in length: no need to compute it then.
+    const std::size_t gap = word.size() > candidate.size() ? word.size() - candidate.size()
+                                                           : candidate.size() - word.size();
+    if (gap > limit)
+      continue;
     const std::size_t d = edit_distance(word, candidate);
     if (d < best_distance) {
       best_distance = d;
@@ -42,6 +50,76 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
     }
   }
   return best;
+}
+
+std::size_t invalid_utf8_at(std::string_view text) {
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  std::size_t i = 0;
+  while (i < n) {
+    const unsigned c = s[i];
+    std::size_t len = 0;
+    unsigned code = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if ((c & 0xE0) == 0xC0) {
+      len = 2;
+      code = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      len = 3;
+      code = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      len = 4;
+      code = c & 0x07;
+    } else {
+      return i;
+    }
+    if (i + len > n)
+      return i;
+    for (std::size_t k = 1; k < len; ++k) {
+      if ((s[i + k] & 0xC0) != 0x80)
+        return i;
+      code = (code << 6) | (s[i + k] & 0x3F);
+    }
+    const unsigned smallest[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (code < smallest[len] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF))
+      return i;
+    i += len;
+  }
+  return std::string_view::npos;
+}
+
+std::string shown(std::string_view text, std::size_t cap) {
+  std::string out;
+  std::size_t chars = 0;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    if (chars == cap) {
+      out += "...";
+      break;
+    }
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t len = 1;
+    if (c >= 0x80) {
+      len = (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+      if (len == 0 || i + len > text.size() ||
+          invalid_utf8_at(text.substr(i, len)) != std::string_view::npos)
+        len = 0;
+    }
+    if (len == 0 || c < 0x20 || c == 0x7F) {
+      static const char* digits = "0123456789abcdef";
+      out += "\\x";
+      out += digits[c >> 4];
+      out += digits[c & 0xF];
+      ++i;
+    } else {
+      out.append(text.substr(i, len));
+      i += len;
+    }
+    ++chars;
+  }
+  return out;
 }
 
 std::string join(const std::vector<std::string>& items, std::string_view separator) {
@@ -119,8 +197,8 @@ public:
           descend(cur, child, path);
         }
       } else {
-        fail(path, "cannot go into '" + path + "': it holds the single value '" + cur.Scalar() +
-                       "', not a map or a list");
+        fail(path, "cannot go into '" + path + "': it holds the single value '" +
+                       shown(cur.Scalar()) + "', not a map or a list");
       }
     }
     return AppliedOverride{path, text_};
@@ -128,7 +206,8 @@ public:
 
 private:
   [[noreturn]] void fail(const std::string& key_path, const std::string& what) const {
-    throw InputError(SourceLocation{"--set", 0, 0, key_path}, what + " (in --set " + text_ + ")");
+    throw InputError(SourceLocation{"--set", 0, 0, shown(key_path, 200)},
+                     what + " (in --set " + shown(text_, 200) + ")");
   }
 
   static std::string trim(const std::string& s) {
@@ -147,7 +226,7 @@ private:
 
   std::size_t parse_index(const std::string& digits) const {
     if (!all_digits(digits) || digits.size() > 9)
-      fail("", "list index '" + digits + "' is not a non-negative integer");
+      fail("", "list index '" + shown(digits) + "' is not a non-negative integer");
     return static_cast<std::size_t>(std::stoul(digits));
   }
 
@@ -163,14 +242,14 @@ private:
       PathToken key;
       key.key = s.substr(start, i - start);
       if (key.key.empty())
-        fail("", "malformed key path '" + s + "' (empty element; write 'a[0]' or 'a.0')");
+        fail("", "malformed key path '" + shown(s) + "' (empty element; write 'a[0]' or 'a.0')");
       if (all_digits(key.key))
         key.index = parse_index(key.key);
       tokens.push_back(std::move(key));
       while (i < s.size() && s[i] == '[') {
         const std::size_t close = s.find(']', i);
         if (close == std::string::npos)
-          fail("", "malformed key path '" + s + "' (missing ']')");
+          fail("", "malformed key path '" + shown(s) + "' (missing ']')");
         PathToken t;
         t.index = parse_index(s.substr(i + 1, close - i - 1));
         t.key = std::to_string(*t.index);
@@ -181,10 +260,11 @@ private:
       if (i == s.size())
         break;
       if (s[i] != '.')
-        fail("", "malformed key path '" + s + "' (unexpected '" + std::string(1, s[i]) + "')");
+        fail("",
+             "malformed key path '" + shown(s) + "' (unexpected '" + std::string(1, s[i]) + "')");
       ++i;
       if (i == s.size())
-        fail("", "malformed key path '" + s + "' (ends with '.')");
+        fail("", "malformed key path '" + shown(s) + "' (ends with '.')");
     }
     return tokens;
   }
@@ -210,7 +290,7 @@ private:
         names.push_back(name.Scalar());
       }
     }
-    std::string what = "no item named '" + t.key + "' in list '" + path + "'";
+    std::string what = "no item named '" + shown(t.key) + "' in list '" + path + "'";
     if (names.empty())
       what += " (its items have no 'name'; use an index such as " + path + "[0])";
     else {
@@ -225,17 +305,30 @@ private:
   void descend(YAML::Node& cur, const YAML::Node& child, const std::string& path) const {
     if (!child.IsMap() && !child.IsSequence())
       fail(path, "cannot go into '" + path + "': it holds the single value '" +
-                     (child.IsScalar() ? child.Scalar() : std::string("")) +
+                     (child.IsScalar() ? shown(child.Scalar()) : std::string("")) +
                      "', not a map or a list");
     cur.reset(child);
   }
 
   YAML::Node parse_value(const std::string& value_text, const std::string& path) const {
+    if (const std::optional<TextProblem> problem = check_raw_text(value_text))
+      fail(path, "the value '" + shown(value_text) + "': " + problem->what);
+    std::vector<YAML::Node> documents;
     try {
-      return YAML::Load(value_text);
+      documents = YAML::LoadAll(value_text);
     } catch (const YAML::ParserException& e) {
-      fail(path, "the value '" + value_text + "' is not valid YAML: " + e.msg);
+      fail(path, "the value '" + shown(value_text) + "' is not valid YAML: " + e.msg);
     }
+    // A second document ("1e-3\n---\nfoo: 1") would be dropped without a word.
+    if (documents.size() > 1)
+      fail(path, "the value holds more than one YAML document (a '---' line starts another); "
+                 "give one value per --set");
+    if (documents.empty())
+      return YAML::Node();
+    if (const std::optional<YAML::Mark> open = find_unterminated_quote(documents[0], value_text))
+      fail(path, "the value '" + shown(value_text) +
+                     "': " + unterminated_quote_message(value_text, *open));
+    return documents[0];
   }
 
   /// time.dt / time.cfl and output.every_steps / output.every_time exclude each other: setting

@@ -24,10 +24,21 @@ struct AppliedOverride {
 std::vector<AppliedOverride> apply_overrides(YAML::Node& root,
                                              const std::vector<std::string>& overrides);
 
+/// `text` as a message quotes it: at most `cap` characters (then "..."), every byte that is not
+/// printable UTF-8 written as \xNN, so a 5 MB value or a binary key costs a line, not a screen.
+std::string shown(std::string_view text, std::size_t cap = 80);
+
+/// Offset of the first byte of `text` that is not part of valid UTF-8 (overlong forms, surrogates
+/// and code points above U+10FFFF count as invalid), or npos.
+std::size_t invalid_utf8_at(std::string_view text);
+
 /// Levenshtein distance.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 
-/// The candidate closest to `word` if it is close enough to be a plausible typo, else "".
+/// The candidate closest to `word` if it is close enough to be a plausible typo, else "". Words
+/// longer than kMaxSuggestedWord get no suggestion (no key is that long, and the distance costs
+/// length x length).
+inline constexpr std::size_t kMaxSuggestedWord = 64;
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
 
 /// "a, b, c"

@@ -101,6 +101,7 @@ struct BodySpec {
   /// Per component: an expression of the initial position (x, y) that replaces velocity[d],
   /// e.g. "0.01 * sin(pi / 50 * x)"; empty when the component is a number.
   std::array<std::string, 2> velocity_expression;
+  std::array<SourceLocation, 2> velocity_where; ///< of each velocity component's value
   /// Initial stress (plastic models only; docs/case-format.md, bodies.initial_stress).
   struct InitialStress {
     enum class Kind { Geostatic, Uniform } kind = Kind::Geostatic;
@@ -109,6 +110,9 @@ struct BodySpec {
     std::optional<double> k0; ///< default nu / (1 - nu)
     /// uniform: sigma_xx, sigma_yy, sigma_xy, sigma_zz, Pa
     std::array<double, 4> stress{};
+    /// The value the stress follows from (uniform: stress; geostatic: k0, or the section), for
+    /// a stress the material refuses (outside its yield surface).
+    SourceLocation where;
   };
   std::optional<InitialStress> initial_stress;
   double angular_velocity = 0; ///< rad/s, initial rigid spin about the body's centroid (default 0)
@@ -207,6 +211,7 @@ struct ProbeSpec {
   std::optional<Index> particle; ///< particle index, or
   std::optional<Vec2> point;     ///< m, nearest particle at t = 0
   SourceLocation where;
+  SourceLocation particle_where; ///< of the particle index
 };
 
 struct SolverSpec {

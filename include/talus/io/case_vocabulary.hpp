@@ -1,0 +1,34 @@
+#pragma once
+// The words a case file may use for its enumerated keys, in one place: the case reader validates
+// against these tables and `talus info` prints them, so the two cannot drift apart.
+#include "talus/io/case_spec.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace talus {
+
+template <class E> using Choices = std::vector<std::pair<std::string, E>>;
+
+const Choices<AnalysisType>& analysis_choices();          ///< analysis, stages[i].analysis
+const Choices<MaterialModel>& material_model_choices();   ///< materials[i].model
+const Choices<ShapeFunction>& shape_function_choices();   ///< solver.shape
+const Choices<UpdateScheme>& update_scheme_choices();     ///< solver.scheme (explicit)
+const Choices<TransferScheme>& transfer_scheme_choices(); ///< solver.transfer
+const Choices<BodyShape>& body_shape_choices();           ///< bodies[i].shape
+const Choices<OutputField>& output_field_choices();       ///< output.fields
+
+/// The words of a table, in its order.
+template <class E> std::vector<std::string> choice_names(const Choices<E>& choices) {
+  std::vector<std::string> names;
+  names.reserve(choices.size());
+  for (const auto& [word, value] : choices)
+    names.push_back(word);
+  return names;
+}
+
+/// The material model words of the elastic (plastic = false) or elasto-plastic models.
+std::vector<std::string> material_model_names(bool plastic);
+
+} // namespace talus

@@ -1,0 +1,311 @@
+#include "talus/core/memory_estimate.hpp"
+
+#include "talus/grid/particle_grid_map.hpp"
+#include "talus/material/plasticity/elastoplastic_response.hpp"
+#include "talus/material/stress_tangent.hpp"
+#include "talus/shape/shape_functions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fmt/format.h>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <unistd.h>
+
+namespace talus {
+
+namespace {
+
+// Every size below is the sizeof of the array element the code allocates (Particles, Scene,
+// ParticleGridMap, the solvers, PlasticMaterial); tests/unit/test_memory_estimate.cpp compares
+// the sum with the heap a small scene really takes.
+
+/// The always-present per-point arrays of Particles (particles.hpp).
+constexpr double kParticleCore =
+    5 * sizeof(Vec2) + 3 * sizeof(double) + sizeof(Mat2) + sizeof(Mat3) + 2 * sizeof(int);
+/// build_scene: the lattice positions (Vec2) and particles_of_material (Index).
+constexpr double kSceneBuild = sizeof(Vec2) + sizeof(Index);
+/// PlasticMaterial: converged and trial history and F, and the return type of each point.
+constexpr double kPlasticState = 2 * sizeof(PlasticHistory) + 2 * sizeof(Mat3) + sizeof(int);
+/// Splitting: F0^-1 and the generation of each point.
+constexpr double kSplitState = sizeof(Mat2) + sizeof(int);
+/// A frame's largest field buffer (stress, 9 doubles per point) written by the results writer.
+constexpr double kFrameBuffer = 9 * sizeof(double);
+/// The implicit solver's trial state per point (implicit_solver.cpp): trial F (Mat3), dF (Mat2),
+/// the stress and its tangent, det dF, F-bar's H, and FBarCells' point lists.
+constexpr double kImplicitPoint = sizeof(Mat3) + sizeof(Mat2) + sizeof(StressTangent) +
+                                  sizeof(double) + sizeof(Mat2) + 3 * sizeof(Index) +
+                                  sizeof(double);
+
+/// Per node: Scene's constrained, component_face and node_prescribed, and the map's bins and
+/// active flags (and the counting sort's fill array).
+constexpr double kNodeScene = 1 + 2 + 4 + 2 * sizeof(Index) + 1;
+/// Explicit solver: mass and four Vec2 (momentum, force, velocity, acceleration).
+constexpr double kNodeExplicit = sizeof(double) + 4 * sizeof(Vec2);
+/// Implicit solver: node mass, DOF numbers, prescribed increments, external and internal forces,
+/// the ghost penalty's flags and moduli, and the owners of the nodes.
+constexpr double kNodeImplicit =
+    sizeof(double) + 2 * sizeof(Index) + 3 * 2 * sizeof(double) + 1 + sizeof(double) + sizeof(int);
+
+/// std::vector grows by doubling when points are appended one by one: the capacity it ends
+/// with is the next power of two.
+double grown(double n) {
+  return n < 1 ? 0 : std::exp2(std::ceil(std::log2(n)));
+}
+
+double area(const BodySpec& b) {
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    return (b.max.x() - b.min.x()) * (b.max.y() - b.min.y());
+  case BodyShape::Disc:
+    return std::numbers::pi * b.radius * b.radius;
+  case BodyShape::Polygon: {
+    double twice = 0;
+    const std::size_t n = b.vertices.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2& p = b.vertices[i];
+      const Vec2& q = b.vertices[(i + 1) % n];
+      twice += p.x() * q.y() - p.y() * q.x();
+    }
+    return 0.5 * std::abs(twice);
+  }
+  }
+  return 0;
+}
+
+void bounds(const BodySpec& b, Vec2& lo, Vec2& hi) {
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    lo = b.min;
+    hi = b.max;
+    return;
+  case BodyShape::Disc:
+    lo = b.centre.array() - b.radius;
+    hi = b.centre.array() + b.radius;
+    return;
+  case BodyShape::Polygon:
+    lo = hi = b.vertices.front();
+    for (const Vec2& v : b.vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    return;
+  }
+}
+
+/// Lattice sites of spacing h / n over [lo, hi] as build_scene lays them out (cell-centred,
+/// aligned with the grid), times the share of the bounding box the body covers.
+double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
+  Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
+  bounds(b, lo, hi);
+  const double h = g.cell_size;
+  const double box_area = (hi - lo).prod();
+  const double fill = box_area > 0 ? std::min(1.0, area(b) / box_area) : 0.0;
+  const auto sites = [&](double spacing, const Vec2& offset) {
+    double count = 1;
+    for (int d = 0; d < 2; ++d) {
+      const double origin = g.origin[d] + spacing * offset[d];
+      count *= std::max(0.0, std::ceil((hi[d] - origin) / spacing) -
+                                 std::floor((lo[d] - origin) / spacing));
+    }
+    return count;
+  };
+  cells_in_box = sites(h, Vec2::Zero());
+  const double n = b.particles_per_cell;
+  if (!b.refine)
+    return fill * sites(h / n, b.placement.offset);
+  // Refined: cells whose centre lies in a refine box take refine.particles_per_cell.
+  double refined_cells = 0;
+  for (const auto& box : b.refine->boxes) {
+    double overlap = 1;
+    for (int d = 0; d < 2; ++d)
+      overlap *= std::max(0.0, std::min(hi[d], box[static_cast<std::size_t>(d + 2)]) -
+                                   std::max(lo[d], box[static_cast<std::size_t>(d)]));
+    refined_cells += overlap / (h * h);
+  }
+  refined_cells = std::min(refined_cells, cells_in_box);
+  const double rn = b.refine->particles_per_cell;
+  return fill * ((cells_in_box - refined_cells) * n * n + refined_cells * rn * rn);
+}
+
+std::size_t stencil_bytes(ShapeFunction shape) {
+  return shape == ShapeFunction::Gimp ? sizeof(ParticleGridMap<2, GimpShape>::Stencil)
+                                      : sizeof(ParticleGridMap<2, LinearShape>::Stencil);
+}
+
+bool any_implicit(const CaseSpec& spec) {
+  if (spec.stages.empty())
+    return spec.analysis != AnalysisType::Explicit || spec.strength_reduction.has_value();
+  return std::any_of(spec.stages.begin(), spec.stages.end(),
+                     [](const StageSpec& s) { return s.analysis != AnalysisType::Explicit; });
+}
+
+bool any_explicit(const CaseSpec& spec) {
+  if (spec.stages.empty())
+    return spec.analysis == AnalysisType::Explicit;
+  return std::any_of(spec.stages.begin(), spec.stages.end(),
+                     [](const StageSpec& s) { return s.analysis == AnalysisType::Explicit; });
+}
+
+} // namespace
+
+std::string format_bytes(double bytes) {
+  const char* units[] = {"B", "kB", "MB", "GB", "TB"};
+  int u = 0;
+  while (u < 4 && bytes >= 1000) {
+    bytes /= 1000;
+    ++u;
+  }
+  if (bytes >= 1e4)
+    return fmt::format("{:.2g} {}", bytes, units[u]);
+  return fmt::format("{:.3g} {}", bytes, units[u]);
+}
+
+std::string MemoryEstimate::describe() const {
+  return fmt::format("{} (grid of {:.3g} x {:.3g} cells, {:.3g} nodes: {}; {:.3g} material points: "
+                     "{}{})",
+                     format_bytes(total_bytes), cells_x, cells_y, nodes, format_bytes(grid_bytes),
+                     points, format_bytes(point_bytes),
+                     matrix_bytes > 0
+                         ? "; implicit matrix and factor: " + format_bytes(matrix_bytes)
+                         : std::string());
+}
+
+MemoryEstimate estimate_memory(const CaseSpec& spec) {
+  MemoryEstimate e;
+  const GridSpec& g = spec.grid;
+  e.cells_x = std::round(g.extent.x() / g.cell_size);
+  e.cells_y = std::round(g.extent.y() / g.cell_size);
+  const double ghosts = 1 + 2 * static_cast<double>(Grid<2>::kGhost);
+  e.nodes = (e.cells_x + ghosts) * (e.cells_y + ghosts);
+
+  const bool implicit = any_implicit(spec);
+  const bool explicit_stage = any_explicit(spec);
+  const bool splitting = std::any_of(spec.bodies.begin(), spec.bodies.end(),
+                                     [](const BodySpec& b) { return b.split.has_value(); });
+  const bool apic = spec.solver.transfer == TransferScheme::Apic;
+  const bool dynamic = spec.analysis == AnalysisType::ImplicitDynamic ||
+                       std::any_of(spec.stages.begin(), spec.stages.end(), [](const StageSpec& s) {
+                         return s.analysis == AnalysisType::ImplicitDynamic;
+                       });
+
+  double active = 0;
+  double largest = -1;
+  for (std::size_t i = 0; i < spec.bodies.size(); ++i) {
+    const BodySpec& b = spec.bodies[i];
+    double cells = 0;
+    const double n = body_points(b, g, cells);
+    e.body_points.push_back(n);
+    e.points += n;
+    // The nodes a body's points touch: its cells as a square block plus the stencil's ring.
+    const double side = std::sqrt(cells);
+    active += (side + 3) * (side + 3);
+    if (b.split)
+      e.split_growth = std::max(e.split_growth, std::exp2(b.split->max_generations));
+    if (n > largest) {
+      largest = n;
+      e.driver_body = static_cast<int>(i);
+    }
+  }
+  e.active_nodes = std::min(active, e.nodes);
+
+  // Per point: what every run has, then what the materials, the map and the solver add.
+  double per_point_grown = kParticleCore + kSceneBuild + (splitting ? kSplitState : 0);
+  double per_point = stencil_bytes(spec.solver.shape) + sizeof(Index) + kFrameBuffer;
+  if (explicit_stage && apic)
+    per_point += sizeof(Mat2) + sizeof(Vec2);
+  if (implicit)
+    per_point += kImplicitPoint + (dynamic ? sizeof(Vec2) : 0);
+  double plastic_points = 0;
+  for (std::size_t i = 0; i < spec.bodies.size(); ++i) {
+    const auto m = static_cast<std::size_t>(spec.bodies[i].material_index);
+    if (m < spec.materials.size() && is_plastic(spec.materials[m].model))
+      plastic_points += e.body_points[i];
+  }
+  e.point_bytes =
+      grown(e.points) * per_point_grown + e.points * per_point + plastic_points * kPlasticState;
+
+  e.grid_bytes = e.nodes * kNodeScene + e.active_nodes * sizeof(Index);
+  if (explicit_stage)
+    e.grid_bytes += e.nodes * kNodeExplicit;
+  if (implicit) {
+    e.grid_bytes += e.nodes * kNodeImplicit;
+    // The tangent: each unknown couples with the unknowns of the nodes that share a point with
+    // it (5 x 5 nodes with GIMP, 3 x 3 with linear hats), 2 per node; values and indices, held
+    // by the matrix and by the assembler's recorded contributions. The sparse factor of a 2D
+    // mesh with nested dissection holds about 8 n log2(n) entries (George 1973).
+    const double dofs = 2 * e.active_nodes;
+    const double row = spec.solver.shape == ShapeFunction::Gimp ? 50 : 18;
+    const double entry = sizeof(double) + sizeof(int);
+    const double factor_entries = 8 * dofs * std::log2(std::max(2.0, dofs));
+    // The assembler records each point's dense block (2 W^2 unknowns squared, W = 3 with GIMP,
+    // 2 with linear hats) with its slot in the matrix, and the block's unknowns and incidences
+    // (sparse_assembler.hpp); the recorded values grow by push_back.
+    const double w = spec.solver.shape == ShapeFunction::Gimp ? 3 : 2;
+    const double block_dofs = 2 * w * w;
+    const double block = block_dofs * block_dofs;
+    const double assembly = grown(e.points * block) * sizeof(double) +
+                            e.points * block * sizeof(int) +
+                            grown(e.points * block_dofs) * sizeof(Index) +
+                            e.points * block_dofs * 2 * sizeof(int);
+    e.matrix_bytes = dofs * row * entry * 3 + factor_entries * entry + assembly;
+  }
+  e.total_bytes = e.grid_bytes + e.point_bytes + e.matrix_bytes;
+
+  // Which key to name: a body's own point density when its points dominate and it asks for more
+  // than one point per direction, otherwise the cell size (which drives both).
+  e.driver_key = "grid.cell_size";
+  if (e.driver_body >= 0 && e.point_bytes > e.grid_bytes + e.matrix_bytes) {
+    const BodySpec& b = spec.bodies[static_cast<std::size_t>(e.driver_body)];
+    const std::string body = fmt::format("bodies[{}]", e.driver_body);
+    if (b.refine && b.refine->particles_per_cell > b.particles_per_cell)
+      e.driver_key = body + ".refine.particles_per_cell";
+    else if (b.particles_per_cell > 1)
+      e.driver_key = body + ".particles_per_cell";
+  } else {
+    e.driver_body = -1;
+  }
+  return e;
+}
+
+MachineMemory machine_memory() {
+  MachineMemory m;
+  std::ifstream meminfo("/proc/meminfo");
+  std::string line;
+  while (std::getline(meminfo, line)) {
+    std::istringstream in(line);
+    std::string key;
+    double kib = 0;
+    in >> key >> kib;
+    if (key == "MemTotal:")
+      m.total_bytes = kib * 1024;
+    else if (key == "MemAvailable:")
+      m.available_bytes = kib * 1024;
+  }
+  m.source = "MemTotal of /proc/meminfo";
+  if (m.total_bytes <= 0) {
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long page = sysconf(_SC_PAGE_SIZE);
+    m.total_bytes = static_cast<double>(pages) * static_cast<double>(page);
+    m.source = "sysconf(_SC_PHYS_PAGES)";
+  }
+  if (m.available_bytes <= 0)
+    m.available_bytes = m.total_bytes;
+  // A container's memory limit (cgroup v2, then v1) is what the process can really have.
+  for (const char* file :
+       {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+    std::ifstream in(file);
+    double limit = 0;
+    if (in >> limit && limit > 0 && limit < m.total_bytes) {
+      m.total_bytes = limit;
+      m.available_bytes = std::min(m.available_bytes, limit);
+      m.source = std::string("the memory limit in ") + file;
+      break;
+    }
+  }
+  return m;
+}
+
+} // namespace talus

@@ -1,0 +1,68 @@
+#include "talus/io/case_vocabulary.hpp"
+
+namespace talus {
+
+const Choices<AnalysisType>& analysis_choices() {
+  static const Choices<AnalysisType> c{{"explicit", AnalysisType::Explicit},
+                                       {"implicit_quasistatic", AnalysisType::ImplicitQuasistatic},
+                                       {"implicit_dynamic", AnalysisType::ImplicitDynamic}};
+  return c;
+}
+
+const Choices<MaterialModel>& material_model_choices() {
+  static const Choices<MaterialModel> c{{"linear_elastic", MaterialModel::LinearElastic},
+                                        {"neo_hookean", MaterialModel::NeoHookean},
+                                        {"hencky", MaterialModel::Hencky},
+                                        {"von_mises", MaterialModel::VonMises},
+                                        {"tresca", MaterialModel::Tresca},
+                                        {"mohr_coulomb", MaterialModel::MohrCoulomb},
+                                        {"drucker_prager", MaterialModel::DruckerPrager}};
+  return c;
+}
+
+const Choices<ShapeFunction>& shape_function_choices() {
+  static const Choices<ShapeFunction> c{{"gimp", ShapeFunction::Gimp},
+                                        {"linear", ShapeFunction::Linear}};
+  return c;
+}
+
+const Choices<UpdateScheme>& update_scheme_choices() {
+  static const Choices<UpdateScheme> c{
+      {"usl", UpdateScheme::USL}, {"usf", UpdateScheme::USF}, {"musl", UpdateScheme::MUSL}};
+  return c;
+}
+
+const Choices<TransferScheme>& transfer_scheme_choices() {
+  static const Choices<TransferScheme> c{{"flip", TransferScheme::Flip},
+                                         {"apic", TransferScheme::Apic}};
+  return c;
+}
+
+const Choices<BodyShape>& body_shape_choices() {
+  static const Choices<BodyShape> c{{"rectangle", BodyShape::Rectangle},
+                                    {"disc", BodyShape::Disc},
+                                    {"polygon", BodyShape::Polygon}};
+  return c;
+}
+
+const Choices<OutputField>& output_field_choices() {
+  static const Choices<OutputField> c{{"velocity", OutputField::Velocity},
+                                      {"mass", OutputField::Mass},
+                                      {"volume", OutputField::Volume},
+                                      {"F", OutputField::DeformationGradient},
+                                      {"stress", OutputField::Stress},
+                                      {"material", OutputField::Material},
+                                      {"plastic_strain", OutputField::PlasticStrain},
+                                      {"reference_position", OutputField::ReferencePosition}};
+  return c;
+}
+
+std::vector<std::string> material_model_names(bool plastic) {
+  std::vector<std::string> names;
+  for (const auto& [word, model] : material_model_choices())
+    if (is_plastic(model) == plastic)
+      names.push_back(word);
+  return names;
+}
+
+} // namespace talus

@@ -1,0 +1,250 @@
+// Time stepping, stages, solver options and the strength-reduction search of a case file.
+#include "talus/linalg/linear_solver.hpp"
+#include "validator.hpp"
+
+namespace talus::detail {
+
+void Validator::check_explicit_time_step(const Item& time_item, const TimeSpec& time,
+                                         const CaseSpec& spec) const {
+  double fastest = 0;
+  std::string material;
+  for (const auto& body : spec.bodies)
+    for (const auto& m : spec.materials)
+      if (m.name == body.material) {
+        const double nu = m.poisson_ratio;
+        const double p_wave = m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+        if (const double c = std::sqrt(p_wave / m.density); c > fastest) {
+          fastest = c;
+          material = m.name;
+        }
+      }
+  const double limit = spec.grid.cell_size / fastest;
+  if (*time.dt > limit) {
+    const Map time_map(*this, time_item, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+    fail(time_map["dt"],
+         fmt::format("explicit time step {:g} s is above the stability limit h / c_p = {:g} s "
+                     "(cell size {:g} m, p-wave speed {:g} m/s of material '{}'); use dt <= "
+                     "{:g} or set time.cfl instead",
+                     *time.dt, limit, spec.grid.cell_size, fastest, material, limit));
+  }
+}
+
+// An implicit analysis steps by dt (its first load step); an explicit one by dt or a CFL number.
+void Validator::check_time_step(const Item& time_item, AnalysisType analysis, const TimeSpec& time,
+                                const CaseSpec& spec) const {
+  if (analysis != AnalysisType::Explicit && time.cfl) {
+    const Map time_map(*this, time_item, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+    fail(time_map["cfl"], "a CFL number applies to explicit analyses; an implicit analysis "
+                          "needs 'dt', its initial load step");
+  }
+  if (analysis == AnalysisType::Explicit && time.dt)
+    check_explicit_time_step(time_item, time, spec);
+}
+
+std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) const {
+  std::vector<StageSpec> out;
+  UniqueNames names(*this, "stage");
+  for (const Item& item : list(it)) {
+    const Map m(*this, item,
+                {"name", "analysis", "time", "strength_factor", "wall_time_limit", "at_rest"});
+    StageSpec s;
+    s.where = locate(m.self());
+    s.name = name(m.required("name"));
+    names.add(s.name, m["name"], item.path);
+    s.analysis = analysis(m.required("analysis"));
+    const Item time_item = m.required("time");
+    s.time = time(time_item);
+    check_time_step(time_item, s.analysis, s.time, spec);
+    if (m.has("strength_factor")) {
+      s.strength_factor = positive(m["strength_factor"]);
+      if (!has_reducible_material(spec.materials))
+        fail(m["strength_factor"], "a strength factor divides cohesion and tan(friction_angle); "
+                                   "the case has no tresca, mohr_coulomb or drucker_prager "
+                                   "material");
+    }
+    if (m.has("wall_time_limit"))
+      s.wall_time_limit = positive(m["wall_time_limit"]);
+    if (m.present("at_rest")) {
+      if (s.analysis == AnalysisType::ImplicitQuasistatic)
+        fail(m.key("at_rest"), "'at_rest' reads the kinetic energy; a quasi-static stage has "
+                               "none (use implicit_dynamic or explicit)");
+      const Map rest(*this, m["at_rest"], {"kinetic_energy_ratio", "duration"});
+      RestCriterion r;
+      if (rest.has("kinetic_energy_ratio")) {
+        const Item ratio = rest["kinetic_energy_ratio"];
+        r.kinetic_energy_ratio = number(ratio);
+        if (!(r.kinetic_energy_ratio > 0 && r.kinetic_energy_ratio < 1))
+          fail(ratio,
+               "must be in the open interval (0, 1) (got " + shown(ratio.node.Scalar()) + ")");
+      }
+      if (rest.has("duration"))
+        r.duration = positive(rest["duration"]);
+      s.at_rest = r;
+    }
+    out.push_back(std::move(s));
+  }
+  if (out.empty())
+    fail(it, "'stages' lists no stage");
+  return out;
+}
+
+TimeSpec Validator::time(const Item& it) const {
+  const Map m(*this, it, {"end_time", "cfl", "dt", "max_steps", "min_dt"});
+  TimeSpec t;
+  t.end_time = positive(m.required("end_time"));
+  if (m.has("cfl")) {
+    const Item cfl = m["cfl"];
+    t.cfl = number(cfl);
+    if (!(*t.cfl > 0 && *t.cfl < 1))
+      fail(cfl, "must be in the open interval (0, 1) (got " + shown(cfl.node.Scalar()) + ")");
+  }
+  if (m.has("dt"))
+    t.dt = positive(m["dt"]);
+  if (t.cfl && t.dt)
+    fail(m.key("dt"), "give exactly one of 'cfl' and 'dt', not both");
+  if (!t.cfl && !t.dt)
+    fail(m.self(), "missing required key 'cfl' or 'dt' (give exactly one)");
+  if (m.has("min_dt")) {
+    t.min_dt = positive(m["min_dt"]);
+    if (t.dt && *t.min_dt > *t.dt)
+      fail(m["min_dt"], "must not exceed dt");
+  }
+  if (m.has("max_steps")) {
+    const Item max_steps = m["max_steps"];
+    t.max_steps = integer(max_steps);
+    if (t.max_steps < 1)
+      fail(max_steps, "must be an integer >= 1 (got " + shown(max_steps.node.Scalar()) + ")");
+  }
+  return t;
+}
+
+/// The output defaults: the six fields, plus plastic_strain when the case has an
+
+std::vector<std::string> Validator::solver_keys() {
+  return {"shape",
+          "scheme",
+          "transfer",
+          "flip",
+          "linear_solver",
+          "newton_tolerance",
+          "max_newton_iterations",
+          "easy_newton_iterations",
+          "ghost_penalty",
+          "f_bar"};
+}
+
+SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
+  const Map m(*this, it, solver_keys());
+  SolverSpec s;
+  if (m.has("shape"))
+    s.shape = choice(m["shape"], shape_function_choices());
+  if (m.has("scheme"))
+    s.scheme = choice(m["scheme"], update_scheme_choices());
+  if (m.has("flip")) {
+    const Item flip = m["flip"];
+    s.flip = number(flip);
+    if (!(s.flip >= 0 && s.flip <= 1))
+      fail(flip, "must be in [0, 1] (got " + shown(flip.node.Scalar()) + ")");
+  }
+  if (m.has("linear_solver")) {
+    const Item ls = m["linear_solver"];
+    LinearSolverKind kind;
+    if (!ls.node.IsScalar() || !parse_linear_solver_kind(ls.node.Scalar(), kind))
+      fail(ls, "unknown linear solver '" + (ls.node.IsScalar() ? shown(ls.node.Scalar()) : "") +
+                   "' (built in: " + join(available_linear_solvers()) + ")");
+    s.linear_solver = ls.node.Scalar();
+  }
+  if (m.has("newton_tolerance")) {
+    const Item tol = m["newton_tolerance"];
+    s.newton_tolerance = positive(tol);
+    if (s.newton_tolerance >= 1e-2)
+      fail(tol, "must be below 1e-2 (got " + shown(tol.node.Scalar()) + ")");
+  }
+  if (m.has("max_newton_iterations")) {
+    const Item it_max = m["max_newton_iterations"];
+    const Index v = integer(it_max);
+    if (v < 1 || v > 200)
+      fail(it_max, "must be an integer in [1, 200] (got " + shown(it_max.node.Scalar()) + ")");
+    s.max_newton_iterations = static_cast<int>(v);
+  }
+  if (m.has("easy_newton_iterations")) {
+    const Item easy = m["easy_newton_iterations"];
+    const Index v = integer(easy);
+    if (v < 1 || v > s.max_newton_iterations)
+      fail(easy, fmt::format("must be an integer in [1, max_newton_iterations = {}] (got {})",
+                             s.max_newton_iterations, easy.node.Scalar()));
+    s.easy_newton_iterations = static_cast<int>(v);
+  }
+  if (m.has("ghost_penalty")) {
+    const Item gp = m["ghost_penalty"];
+    if (!any_implicit_stage(spec))
+      fail(m.key("ghost_penalty"), "'ghost_penalty' stabilises the implicit grid solve; an "
+                                   "explicit analysis has no tangent to stabilise");
+    s.ghost_penalty = number(gp);
+    if (!(s.ghost_penalty >= 0 && s.ghost_penalty < 1))
+      fail(gp, "must be in [0, 1) (got " + shown(gp.node.Scalar()) + ")");
+  }
+  if (m.has("f_bar")) {
+    if (const std::string stage = explicit_stage(spec); !stage.empty())
+      fail(m.key("f_bar"), "'f_bar' averages the volume change of the implicit grid solve; "
+                           "explicit analyses do not support it, and " +
+                               stage + " is explicit");
+    s.f_bar = boolean(m["f_bar"]);
+  }
+  if (m.has("transfer")) {
+    s.transfer = choice(m["transfer"], transfer_scheme_choices());
+    if (s.transfer == TransferScheme::Apic && any_implicit_stage(spec))
+      fail(m["transfer"], "transfer 'apic' is implemented in the explicit analysis only; the "
+                          "implicit analyses transfer with FLIP/PIC (set 'flip')");
+    if (s.transfer == TransferScheme::Apic && s.shape == ShapeFunction::Linear)
+      fail(m["transfer"], "transfer 'apic' needs shape 'gimp': with linear hats APIC's affine "
+                          "moment D_p vanishes whenever a point sits on a node, and the transfer "
+                          "is unstable");
+  }
+  return s;
+}
+
+StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
+  const Map m(*this, it,
+              {"lower", "upper", "tolerance", "max_trials", "probe", "displacement_limit"});
+  StrengthReductionSpec s;
+  s.where = locate(m.self());
+  // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
+  // no such criterion.
+  if (!spec.stages.empty())
+    fail(m.self(), "strength reduction runs its own quasi-static trials from scratch; it cannot "
+                   "be combined with 'stages'");
+  if (spec.analysis != AnalysisType::ImplicitQuasistatic)
+    fail(m.self(), "strength reduction loads the case quasi-statically; it needs 'analysis: "
+                   "implicit_quasistatic'");
+  if (!has_reducible_material(spec.materials))
+    fail(m.self(), "strength reduction divides cohesion and tan(friction_angle); the case has "
+                   "no tresca, mohr_coulomb or drucker_prager material");
+  if (m.has("lower"))
+    s.lower = positive(m["lower"]);
+  if (m.has("upper"))
+    s.upper = positive(m["upper"]);
+  if (!(s.upper > s.lower))
+    fail(m.has("upper") ? m["upper"] : m.self(),
+         fmt::format("'upper' ({:g}) must be above 'lower' ({:g})", s.upper, s.lower));
+  if (m.has("tolerance"))
+    s.tolerance = positive(m["tolerance"]);
+  if (m.has("max_trials")) {
+    const Item trials = m["max_trials"];
+    const Index v = integer(trials);
+    if (v < 2 || v > 100)
+      fail(trials, "must be an integer in [2, 100] (got " + shown(trials.node.Scalar()) + ")");
+    s.max_trials = static_cast<int>(v);
+  }
+  const Item probe = m.required("probe");
+  s.probe = name(probe);
+  if (std::none_of(spec.probes.begin(), spec.probes.end(),
+                   [&](const ProbeSpec& p) { return p.name == s.probe; }))
+    fail(probe,
+         "no probe named '" + shown(s.probe) + "' (the crest probe must be listed in 'probes')");
+  if (m.has("displacement_limit"))
+    s.displacement_limit = positive(m["displacement_limit"]);
+  return s;
+}
+
+} // namespace talus::detail
