@@ -279,8 +279,11 @@ CaseSpec read_case_text(const std::string& text, const std::string& label,
     const auto [line, column] = detail::line_column(text, offset);
     return SourceLocation{label, line, column, ""};
   };
-  if (const std::optional<detail::TextProblem> problem = detail::check_raw_text(text))
-    throw InputError(at(problem->offset), problem->what);
+  if (const std::optional<detail::TextProblem> problem = detail::check_raw_text(text)) {
+    SourceLocation where = at(problem->offset);
+    where.key_path = detail::enclosing_key_path(text, problem->offset);
+    throw InputError(where, problem->what);
+  }
   YAML::Node root;
   try {
     const std::vector<YAML::Node> documents = YAML::LoadAll(text);

@@ -19,6 +19,66 @@ std::pair<int, int> line_column(std::string_view text, std::size_t offset) {
   return {line, column};
 }
 
+std::string enclosing_key_path(std::string_view text, std::size_t offset) {
+  // The open block levels: a map key, or a list item (its index), each with the column it
+  // starts at. A line's content closes every level at or right of its column, but an item
+  // marker "- " keeps a key of its own column (a list written flush with its key) and numbers
+  // itself among the items of the key that holds the list.
+  struct Level {
+    std::size_t column;
+    std::string key; // empty for a list item
+    int index = 0;   // list item: its index; key: how many items its list has had
+  };
+  std::vector<Level> levels;
+  int root_items = 0;
+  for (std::size_t begin = 0; begin <= offset && begin < text.size();) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos)
+      end = text.size();
+    std::size_t i = begin;
+    while (i < end && text[i] == ' ')
+      ++i;
+    const bool content = i < end && text[i] != '#' && text[i] != '\r' && i <= offset;
+    if (content && i == begin && (text.substr(i, 3) == "---" || text.substr(i, 3) == "..."))
+      levels.clear(); // a new document
+    else if (content && !(i + 1 < end && text[i] == '-' && text[i + 1] == ' '))
+      while (!levels.empty() && levels.back().column >= i - begin)
+        levels.pop_back(); // anything that starts at or left of an open level closes it
+    while (content && i + 1 < end && text[i] == '-' && text[i + 1] == ' ') {
+      const std::size_t column = i - begin;
+      while (!levels.empty() && (levels.back().column > column ||
+                                 (levels.back().column == column && levels.back().key.empty())))
+        levels.pop_back();
+      int& count = levels.empty() ? root_items : levels.back().index;
+      levels.push_back({column, "", count++});
+      i += 2;
+      while (i < end && text[i] == ' ')
+        ++i;
+    }
+    if (content) {
+      // "key:" followed by a space or the line's end opens a map entry at this column.
+      std::size_t colon = i;
+      while (colon < end && std::string_view(":[{\"'#").find(text[colon]) == std::string_view::npos)
+        ++colon;
+      if (colon < end && text[colon] == ':' && colon > i &&
+          (colon + 1 == end || text[colon + 1] == ' ' || text[colon + 1] == '\r')) {
+        const std::size_t column = i - begin;
+        while (!levels.empty() && levels.back().column >= column)
+          levels.pop_back();
+        std::string_view key = text.substr(i, colon - i);
+        while (!key.empty() && key.back() == ' ')
+          key.remove_suffix(1);
+        levels.push_back({column, std::string(key.substr(0, 64))});
+      }
+    }
+    begin = end + 1;
+  }
+  std::string path;
+  for (const Level& l : levels)
+    path += l.key.empty() ? fmt::format("[{}]", l.index) : (path.empty() ? "" : ".") + l.key;
+  return path;
+}
+
 std::optional<TextProblem> check_raw_text(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i)
     if (text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n'))

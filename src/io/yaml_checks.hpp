@@ -39,6 +39,12 @@ std::optional<YAML::Mark> find_unterminated_quote(const YAML::Node& node, std::s
 /// The message for an unterminated quote that opens at `mark`.
 std::string unterminated_quote_message(std::string_view text, const YAML::Mark& mark);
 
+/// The key path of the block mapping entries that enclose a byte offset ("grid.origin",
+/// "bodies[1].vertices"), read from the indentation of the lines up to it, for problems found
+/// before the text is parsed; "" when the offset lies before the first key. Flow collections
+/// ([...] and {...}) are not entered: the path ends at the key that holds them.
+std::string enclosing_key_path(std::string_view text, std::size_t offset);
+
 /// 1-based line and column of a byte offset.
 std::pair<int, int> line_column(std::string_view text, std::size_t offset);
 

@@ -96,10 +96,12 @@ protected:
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         EXPECT_EQ(r.exit_code, 2) << r.describe();
-        // "Well under a second" of the process's own time (the machine may be busy with other
-        // tests; measured unloaded: 0.1 s, 0.5 s for the 5 MB inputs, most of it yaml-cpp
-        // scanning them), and no hang in wall time.
-        EXPECT_LT(r.cpu_seconds, 1.0) << r.describe();
+        // The process's own CPU time, not the wall clock (the machine may be busy with other
+        // tests): measured 0.1 s, 0.5 s for the 5 MB inputs (yaml-cpp scanning them). The bound
+        // is 3 s, 6x that, so that a slower machine passes while the costs it guards (15 s
+        // for the did-you-mean search of a 5 MB key, minutes before a memory refusal) fail;
+        // and no hang in wall time.
+        EXPECT_LT(r.cpu_seconds, 3.0) << r.describe();
         EXPECT_LT(seconds, 10.0) << r.describe();
         for (const auto& text : c.expected)
           EXPECT_NE(r.err.find(text), std::string::npos) << "stderr lacks \"" << text << "\"\n"
@@ -246,7 +248,7 @@ TEST_F(CliInputErrors, MessagesSayWhatIsReallyWrong) {
       {"CR-only line ends",
        cr_only,
        {},
-       {"case.yaml:1:19: the line ends here with a carriage return alone"}},
+       {"case.yaml:1:19: key 'name': the line ends here with a carriage return alone"}},
       {"nesting past the limit",
        edited("velocity: [0, 0]", "velocity: " + deep),
        {},
@@ -254,7 +256,7 @@ TEST_F(CliInputErrors, MessagesSayWhatIsReallyWrong) {
       {"nesting past yaml-cpp's depth limit",
        edited("velocity: [0, 0]", "velocity: " + very_deep),
        {},
-       {"case.yaml:20:", "nest more than 400 levels deep here"}},
+       {"case.yaml:20:", "key 'bodies[0].velocity'", "nest more than 400 levels deep here"}},
       {"self-intersecting polygon (a bow tie)",
        edited("shape: rectangle\n    min: [0.1, 0.1]\n    max: [0.4, 0.4]",
               "shape: polygon\n    vertices: [[0.1, 0.1], [0.4, 0.4], [0.4, 0.1], [0.1, 0.4]]"),
