@@ -1,5 +1,7 @@
 #include "talus/core/memory_estimate.hpp"
 
+#include "talus/core/body_geometry.hpp"
+
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/material/plasticity/elastoplastic_response.hpp"
 #include "talus/material/stress_tangent.hpp"
@@ -75,31 +77,11 @@ double area(const BodySpec& b) {
   return 0;
 }
 
-void bounds(const BodySpec& b, Vec2& lo, Vec2& hi) {
-  switch (b.shape) {
-  case BodyShape::Rectangle:
-    lo = b.min;
-    hi = b.max;
-    return;
-  case BodyShape::Disc:
-    lo = b.centre.array() - b.radius;
-    hi = b.centre.array() + b.radius;
-    return;
-  case BodyShape::Polygon:
-    lo = hi = b.vertices.front();
-    for (const Vec2& v : b.vertices) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-    return;
-  }
-}
-
 /// Lattice sites of spacing h / n over [lo, hi] as build_scene lays them out (cell-centred,
 /// aligned with the grid), times the share of the bounding box the body covers.
 double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
   Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
-  bounds(b, lo, hi);
+  bounding_box(b, lo, hi);
   const double h = g.cell_size;
   const double box_area = (hi - lo).prod();
   const double fill = box_area > 0 ? std::min(1.0, area(b) / box_area) : 0.0;
@@ -246,10 +228,9 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
     const double w = spec.solver.shape == ShapeFunction::Gimp ? 3 : 2;
     const double block_dofs = 2 * w * w;
     const double block = block_dofs * block_dofs;
-    const double assembly = grown(e.points * block) * sizeof(double) +
-                            e.points * block * sizeof(int) +
-                            grown(e.points * block_dofs) * sizeof(Index) +
-                            e.points * block_dofs * 2 * sizeof(int);
+    const double assembly =
+        grown(e.points * block) * sizeof(double) + e.points * block * sizeof(int) +
+        grown(e.points * block_dofs) * sizeof(Index) + e.points * block_dofs * 2 * sizeof(int);
     e.matrix_bytes = dofs * row * entry * 3 + factor_entries * entry + assembly;
   }
   e.total_bytes = e.grid_bytes + e.point_bytes + e.matrix_bytes;

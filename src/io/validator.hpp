@@ -235,18 +235,26 @@ public:
   }
 
   /// A finite number; `expected` names the kind for "expected X, got Y".
-  double parse_number(const Item& it, const std::string& expected) const {
-    const YAML::Node& n = it.node;
-    if (!n.IsScalar() || n.Tag() == "!" || n.Tag() == "tag:yaml.org,2002:str")
-      fail(it, "expected " + expected + ", got " + describe(n));
-    const std::string& s = n.Scalar();
+  /// s in lower case without a leading sign: how YAML and strtod spell infinities and NaNs.
+  static std::string unsigned_lower_case(const std::string& s) {
     std::string lower;
     for (char c : s)
       lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (!lower.empty() && (lower[0] == '+' || lower[0] == '-'))
       lower.erase(0, 1);
-    if (lower == ".inf" || lower == "inf" || lower == "infinity" || lower == ".nan" ||
-        lower == "nan")
+    return lower;
+  }
+  static bool names_infinity_or_nan(const std::string& s) {
+    const std::string lower = unsigned_lower_case(s);
+    return lower == ".inf" || lower == "inf" || lower == "infinity" || lower == ".nan" ||
+           lower == "nan";
+  }
+  double parse_number(const Item& it, const std::string& expected) const {
+    const YAML::Node& n = it.node;
+    if (!n.IsScalar() || n.Tag() == "!" || n.Tag() == "tag:yaml.org,2002:str")
+      fail(it, "expected " + expected + ", got " + describe(n));
+    const std::string& s = n.Scalar();
+    if (names_infinity_or_nan(s))
       fail(it, "must be a finite number (got " + shown(s) + "); NaN and infinity are not physical");
     const char* begin = s.data();
     const char* end = s.data() + s.size();
@@ -290,14 +298,9 @@ public:
   /// True for text that is meant as a number, valid or not (1e5, -3, 1e400, .inf, .nan), as
   /// opposed to an expression such as 0.1*sin(x).
   static bool looks_numeric(const std::string& s) {
-    std::string lower;
-    for (char c : s)
-      lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (!lower.empty() && (lower[0] == '+' || lower[0] == '-'))
-      lower.erase(0, 1);
-    if (lower == ".inf" || lower == "inf" || lower == "infinity" || lower == ".nan" ||
-        lower == "nan")
+    if (names_infinity_or_nan(s))
       return true;
+    const std::string lower = unsigned_lower_case(s);
     char* end = nullptr;
     std::strtod(lower.c_str(), &end);
     return !lower.empty() && end == lower.c_str() + lower.size();

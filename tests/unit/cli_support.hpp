@@ -48,6 +48,17 @@ inline void write_file(const fs::path& file, const std::string& text) {
   ASSERT_TRUE(out.good()) << "cannot write " << file;
 }
 
+/// `text` with the one occurrence of `from` replaced by `to` (a test failure if `from` does not
+/// occur exactly once).
+inline std::string replaced_once(const std::string& from, const std::string& to, std::string text) {
+  const auto at = text.find(from);
+  if (at == std::string::npos || text.find(from, at + 1) != std::string::npos) {
+    ADD_FAILURE() << "test bug: '" << from << "' must occur exactly once in the case text";
+    return text;
+  }
+  return text.replace(at, from.size(), to);
+}
+
 inline nlohmann::json read_json(const fs::path& file) {
   return nlohmann::json::parse(read_file(file));
 }

@@ -85,12 +85,7 @@ solver:
 
 /// kCase (or `text`) with the one occurrence of `from` replaced by `to`.
 std::string edited(const std::string& from, const std::string& to, std::string text = kCase) {
-  const auto at = text.find(from);
-  if (at == std::string::npos || text.find(from, at + 1) != std::string::npos) {
-    ADD_FAILURE() << "test bug: '" << from << "' must occur exactly once in the case text";
-    return text;
-  }
-  return text.replace(at, from.size(), to);
+  return replaced_once(from, to, std::move(text));
 }
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
