@@ -26,7 +26,7 @@ using namespace talus;
 
 struct Beam {
   Beam()
-      : scene(build_scene(
+      : scene(build_scene<2>(
             read_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/cantilever_large.yaml"))),
         solver(make_implicit_solver(scene)) {
     solver->prepare(0.02, 0.02, 0.02); // the first of the case's 50 load steps

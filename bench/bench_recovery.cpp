@@ -31,7 +31,7 @@ Scene<2> discs(int cells) {
   const CaseSpec spec =
       read_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/colliding_discs.yaml",
                      {fmt::format("grid.cell_size={:.17g}", 1.0 / cells)});
-  Scene<2> scene = build_scene(spec);
+  Scene<2> scene = build_scene<2>(spec);
   auto solver = make_explicit_solver(scene);
   for (int k = 0; k < 5; ++k)
     solver->step(solver->stable_dt(0.5));

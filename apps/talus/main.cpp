@@ -44,7 +44,8 @@ int print_info() {
   fmt::print("shape functions {}\n", words(choice_names(shape_function_choices())));
   fmt::print("elastic models  {}\n", words(material_model_names(false)));
   fmt::print("plastic models  {}\n", words(material_model_names(true)));
-  fmt::print("body shapes     {}\n", words(choice_names(body_shape_choices())));
+  fmt::print("body shapes     {} (2D); {} (3D)\n", words(choice_names(body_shape_choices(2))),
+             words(choice_names(body_shape_choices(3))));
   fmt::print("output fields   {}\n", words(choice_names(output_field_choices())));
   const char* wait_policy = std::getenv("OMP_WAIT_POLICY");
   fmt::print("OpenMP threads  {} available, waiting {}\n", omp_get_max_threads(),
@@ -80,7 +81,7 @@ int check_command(const std::string& case_file, const std::vector<std::string>& 
   // built when that is quick; a case of gigabytes gets those checks at the start of its run.
   constexpr double kSceneCheckBytes = 1e9;
   if (estimate.total_bytes <= kSceneCheckBytes) {
-    const Scene<2> scene = build_scene(spec);
+    const Scene<2> scene = build_scene<2>(spec);
     fmt::print("{}: valid case '{}', {} material points\n", case_file, spec.name,
                scene.particles.size());
   } else {

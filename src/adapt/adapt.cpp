@@ -51,7 +51,7 @@ CellMarks mark_cells(const Scene<2>& scene, const AdaptOptions& options) {
     const Cell c = cell_of(scene.grid, P.x0[s]);
     marks.body_cells[b].insert(c);
     if (kappa[s] > options.plastic_strain ||
-        voxel_aspect_ratio(P.F[s], P.half_size0[s]) > options.aspect_ratio)
+        voxel_aspect_ratio(P.grid_F(s), P.half_size0[s]) > options.aspect_ratio)
       marks.marked[b].insert(c);
   }
   // The buffer: every body cell within buffer_cells (in both directions) of a marked one.
@@ -111,7 +111,7 @@ std::pair<double, double> extent_of(const Particles<2>& P) {
     const auto s = static_cast<std::size_t>(p);
     for (const double sx : {-1.0, 1.0})
       for (const double sy : {-1.0, 1.0}) {
-        const Vec2 corner = P.x[s] + P.F[s] * Vec2(sx, sy).cwiseProduct(P.half_size0[s]);
+        const Vec2 corner = P.x[s] + P.grid_F(s) * Vec2(sx, sy).cwiseProduct(P.half_size0[s]);
         front = std::max(front, corner.x());
         top = std::max(top, corner.y());
       }
@@ -187,7 +187,7 @@ AdaptReport adapt_case(const std::string& case_file, const std::vector<std::stri
     const BodySpec& body = coarse.bodies[b];
     report.overrides.push_back(
         refine_override(body, body.particles_per_cell * options.factor,
-                        boxes_of(build_scene(coarse).grid, marks.marked[b])));
+                        boxes_of(build_scene<2>(coarse).grid, marks.marked[b])));
   }
   const CaseSpec adapted = read_case_file(case_file, report.overrides);
   report.runs.push_back(run_one("adapted", adapted, options, root, nullptr));

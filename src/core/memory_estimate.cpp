@@ -57,12 +57,20 @@ double grown(double n) {
   return n < 1 ? 0 : std::exp2(std::ceil(std::log2(n)));
 }
 
-double area(const BodySpec& b) {
+/// The body's area (2D) or volume (3D).
+double measure(const BodySpec& b, int dimension) {
   switch (b.shape) {
-  case BodyShape::Rectangle:
-    return (b.max.x() - b.min.x()) * (b.max.y() - b.min.y());
+  case BodyShape::Rectangle: {
+    double product = 1;
+    for (int d = 0; d < dimension; ++d)
+      product *= b.max[d] - b.min[d];
+    return product;
+  }
   case BodyShape::Disc:
-    return std::numbers::pi * b.radius * b.radius;
+    return dimension == 3 ? 4.0 / 3.0 * std::numbers::pi * std::pow(b.radius, 3)
+                          : std::numbers::pi * b.radius * b.radius;
+  case BodyShape::Cylinder:
+    return std::numbers::pi * b.radius * b.radius * (b.axis_end - b.axis_start).norm();
   case BodyShape::Polygon: {
     double twice = 0;
     const std::size_t n = b.vertices.size();
@@ -71,7 +79,7 @@ double area(const BodySpec& b) {
       const Vec2& q = b.vertices[(i + 1) % n];
       twice += p.x() * q.y() - p.y() * q.x();
     }
-    return 0.5 * std::abs(twice);
+    return 0.5 * std::abs(twice) * (dimension == 3 ? b.z_max - b.z_min : 1.0);
   }
   }
   return 0;
@@ -80,36 +88,38 @@ double area(const BodySpec& b) {
 /// Lattice sites of spacing h / n over [lo, hi] as build_scene lays them out (cell-centred,
 /// aligned with the grid), times the share of the bounding box the body covers.
 double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
-  Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
-  bounding_box(b, lo, hi);
+  const int dims = g.dimension;
+  Vec3 lo, hi;
+  bounding_box(b, dims, lo, hi);
   const double h = g.cell_size;
-  const double box_area = (hi - lo).prod();
-  const double fill = box_area > 0 ? std::min(1.0, area(b) / box_area) : 0.0;
-  const auto sites = [&](double spacing, const Vec2& offset) {
+  double box = 1;
+  for (int d = 0; d < dims; ++d)
+    box *= hi[d] - lo[d];
+  const double fill = box > 0 ? std::min(1.0, measure(b, dims) / box) : 0.0;
+  const auto sites = [&](double spacing, const Vec3& offset) {
     double count = 1;
-    for (int d = 0; d < 2; ++d) {
+    for (int d = 0; d < dims; ++d) {
       const double origin = g.origin[d] + spacing * offset[d];
       count *= std::max(0.0, std::ceil((hi[d] - origin) / spacing) -
                                  std::floor((lo[d] - origin) / spacing));
     }
     return count;
   };
-  cells_in_box = sites(h, Vec2::Zero());
-  const double n = b.particles_per_cell;
+  cells_in_box = sites(h, Vec3::Zero());
+  const double per_cell = std::pow(b.particles_per_cell, dims);
   if (!b.refine)
-    return fill * sites(h / n, b.placement.offset);
+    return fill * sites(h / b.particles_per_cell, b.placement.offset);
   // Refined: cells whose centre lies in a refine box take refine.particles_per_cell.
   double refined_cells = 0;
-  for (const auto& box : b.refine->boxes) {
+  for (const auto& r : b.refine->boxes) {
     double overlap = 1;
-    for (int d = 0; d < 2; ++d)
-      overlap *= std::max(0.0, std::min(hi[d], box[static_cast<std::size_t>(d + 2)]) -
-                                   std::max(lo[d], box[static_cast<std::size_t>(d)]));
-    refined_cells += overlap / (h * h);
+    for (int d = 0; d < dims; ++d)
+      overlap *= std::max(0.0, std::min(hi[d], r.max[d]) - std::max(lo[d], r.min[d]));
+    refined_cells += overlap / std::pow(h, dims);
   }
   refined_cells = std::min(refined_cells, cells_in_box);
-  const double rn = b.refine->particles_per_cell;
-  return fill * ((cells_in_box - refined_cells) * n * n + refined_cells * rn * rn);
+  const double refined_per_cell = std::pow(b.refine->particles_per_cell, dims);
+  return fill * ((cells_in_box - refined_cells) * per_cell + refined_cells * refined_per_cell);
 }
 
 std::size_t stencil_bytes(ShapeFunction shape) {

@@ -13,35 +13,60 @@
 
 namespace talus {
 
-const char* face_name(int face) {
-  static const char* names[] = {"x_min", "x_max", "y_min", "y_max"};
-  return names[face];
+namespace {
+
+/// Calls f(index) for every multi-index with first[d] <= index[d] < last[d], x fastest.
+template <int Dim, class F>
+void for_each_index(const std::array<Index, Dim>& first, const std::array<Index, Dim>& last,
+                    F&& f) {
+  for (int d = 0; d < Dim; ++d)
+    if (first[d] >= last[d])
+      return;
+  std::array<Index, Dim> index = first;
+  while (true) {
+    f(index);
+    int d = 0;
+    while (d < Dim && ++index[d] == last[d]) {
+      index[d] = first[d];
+      ++d;
+    }
+    if (d == Dim)
+      return;
+  }
 }
 
-namespace {
+/// The centre of lattice cell `index` of spacing `spacing` from `origin`.
+template <int Dim>
+Vec<Dim> lattice_centre(const Vec<Dim>& origin, double spacing,
+                        const std::array<Index, Dim>& index) {
+  Vec<Dim> x;
+  for (int d = 0; d < Dim; ++d)
+    x[d] = origin[d] + spacing * (static_cast<double>(index[d]) + 0.5);
+  return x;
+}
 
 // The cell-centred lattice of the sub-cells of spacing h / n (n per direction) that covers
 // [lo, hi], aligned with the grid and shifted by `offset` spacings; f(site, spacing) for each
 // sub-cell centre.
-template <class F>
-void for_each_lattice_point(const Grid<2>& grid, const Vec2& lo, const Vec2& hi, int n,
-                            const Vec2& offset, F&& f) {
+template <int Dim, class F>
+void for_each_lattice_point(const Grid<Dim>& grid, const Vec<Dim>& lo, const Vec<Dim>& hi, int n,
+                            const Vec<Dim>& offset, F&& f) {
   const double spacing = grid.cell_size() / n;
-  const Vec2 origin = grid.origin() + spacing * offset;
-  std::array<Index, 2> first{}, last{};
-  for (int d = 0; d < 2; ++d) {
+  const Vec<Dim> origin = grid.origin() + spacing * offset;
+  std::array<Index, Dim> first{}, last{};
+  for (int d = 0; d < Dim; ++d) {
     first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / spacing));
     last[d] = static_cast<Index>(std::ceil((hi[d] - origin[d]) / spacing));
   }
-  for (Index j = first[1]; j < last[1]; ++j)
-    for (Index i = first[0]; i < last[0]; ++i)
-      f(origin + spacing * Vec2(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5),
-        spacing);
+  for_each_index<Dim>(first, last, [&](const std::array<Index, Dim>& index) {
+    f(lattice_centre<Dim>(origin, spacing, index), spacing);
+  });
 }
 
-bool in_refine_box(const BodySpec::Refine& refine, const Vec2& q) {
+template <int Dim> bool in_refine_box(const BodySpec::Refine& refine, const Vec<Dim>& q) {
   return std::any_of(refine.boxes.begin(), refine.boxes.end(), [&](const auto& b) {
-    return q.x() >= b[0] && q.x() <= b[2] && q.y() >= b[1] && q.y() <= b[3];
+    return (q.array() >= head<Dim>(b.min).array()).all() &&
+           (q.array() <= head<Dim>(b.max).array()).all();
   });
 }
 
@@ -50,35 +75,38 @@ bool in_refine_box(const BodySpec::Refine& refine, const Vec2& q) {
 // uniform lattice is laid out over the whole bounding box at once (the historical order of
 // the points); a refined body cell by cell, each cell's sub-lattice shifted by the placement
 // offset in its own spacing.
-template <class F> void for_each_body_site(const Grid<2>& grid, const BodySpec& body, F&& f) {
-  Vec2 lo, hi;
-  bounding_box(body, lo, hi);
-  const Vec2& offset = body.placement.offset;
+template <int Dim, class F>
+void for_each_body_site(const Grid<Dim>& grid, const BodySpec& body, F&& f) {
+  Vec3 lo3, hi3;
+  bounding_box(body, Dim, lo3, hi3);
+  const Vec<Dim> lo = head<Dim>(lo3), hi = head<Dim>(hi3);
+  const Vec<Dim> offset = head<Dim>(body.placement.offset);
   if (!body.refine) {
-    for_each_lattice_point(grid, lo, hi, body.particles_per_cell, offset, f);
+    for_each_lattice_point<Dim>(grid, lo, hi, body.particles_per_cell, offset, f);
     return;
   }
   const double h = grid.cell_size();
-  const Vec2 origin = grid.origin();
-  std::array<Index, 2> first{}, last{};
-  for (int d = 0; d < 2; ++d) {
+  const Vec<Dim> origin = grid.origin();
+  std::array<Index, Dim> first{}, last{};
+  for (int d = 0; d < Dim; ++d) {
     first[d] = static_cast<Index>(std::floor((lo[d] - origin[d]) / h));
     last[d] = static_cast<Index>(std::ceil((hi[d] - origin[d]) / h));
   }
-  for (Index cj = first[1]; cj < last[1]; ++cj)
-    for (Index ci = first[0]; ci < last[0]; ++ci) {
-      const Vec2 centre =
-          origin + h * Vec2(static_cast<double>(ci) + 0.5, static_cast<double>(cj) + 0.5);
-      const Index n = in_refine_box(*body.refine, centre) ? body.refine->particles_per_cell
-                                                          : body.particles_per_cell;
-      const double spacing = h / static_cast<double>(n);
-      const Vec2 shifted = origin + spacing * offset;
-      for (Index sj = 0; sj < n; ++sj)
-        for (Index si = 0; si < n; ++si)
-          f(shifted + spacing * Vec2(static_cast<double>(ci * n + si) + 0.5,
-                                     static_cast<double>(cj * n + sj) + 0.5),
-            spacing);
+  for_each_index<Dim>(first, last, [&](const std::array<Index, Dim>& cell) {
+    const Index n = in_refine_box<Dim>(*body.refine, lattice_centre<Dim>(origin, h, cell))
+                        ? body.refine->particles_per_cell
+                        : body.particles_per_cell;
+    const double spacing = h / static_cast<double>(n);
+    const Vec<Dim> shifted = origin + spacing * offset;
+    std::array<Index, Dim> sub_first{}, sub_last{};
+    for (int d = 0; d < Dim; ++d) {
+      sub_first[d] = cell[d] * n;
+      sub_last[d] = sub_first[d] + n;
     }
+    for_each_index<Dim>(sub_first, sub_last, [&](const std::array<Index, Dim>& sub) {
+      f(lattice_centre<Dim>(shifted, spacing, sub), spacing);
+    });
+  });
 }
 
 // APIC carries the velocity gradient C_p = grad v with every point. It starts as the gradient of
@@ -87,30 +115,36 @@ template <class F> void for_each_body_site(const Grid<2>& grid, const BodySpec& 
 // which shook the rigid-rotation disc to 5x its centrifugal stress. Expressions are
 // differentiated by central differences a thousandth of a cell wide (truncation error
 // 1e-7 h^2 |v'''|, round-off 1e-13 |v| / h).
-void set_initial_affine_velocity(Scene<2>& scene, const BodySpec& body,
+template <int Dim>
+void set_initial_affine_velocity(Scene<Dim>& scene, const BodySpec& body,
                                  const std::vector<Index>& created) {
   auto& P = scene.particles;
-  P.affine_velocity.resize(static_cast<std::size_t>(P.size()), Mat2::Zero());
-  Mat2 spin;
-  spin << 0.0, -body.angular_velocity, body.angular_velocity, 0.0;
+  P.affine_velocity.resize(static_cast<std::size_t>(P.size()), Mat<Dim>::Zero());
+  Mat<Dim> spin = Mat<Dim>::Zero();
+  spin(0, 1) = -body.angular_velocity; // a 3D body has no angular_velocity (the reader)
+  spin(1, 0) = body.angular_velocity;
   for (Index p : created)
     P.affine_velocity[static_cast<std::size_t>(p)] = spin;
   const double delta = 1e-3 * scene.grid.cell_size();
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < Dim; ++d) {
     const std::string& text = body.velocity_expression[static_cast<std::size_t>(d)];
     if (text.empty())
       continue;
-    const PositionExpression velocity(text);
+    const PositionExpression velocity(text, Dim);
     for (Index p : created) {
-      const Vec2& x = P.x[static_cast<std::size_t>(p)];
-      const Vec2 gradient(velocity(x.x() + delta, x.y()) - velocity(x.x() - delta, x.y()),
-                          velocity(x.x(), x.y() + delta) - velocity(x.x(), x.y() - delta));
+      const Vec3 x = padded<Dim>(P.x[static_cast<std::size_t>(p)]);
+      Vec<Dim> gradient;
+      for (int a = 0; a < Dim; ++a) {
+        Vec3 step = Vec3::Zero();
+        step[a] = delta;
+        gradient[a] = (velocity(x + step) - velocity(x - step)) / (2 * delta);
+      }
       if (!gradient.allFinite())
         throw InputError(body.where,
                          fmt::format("velocity expression '{}' has no finite gradient at "
-                                     "({:g}, {:g}), which transfer: apic needs",
-                                     text, x.x(), x.y()));
-      P.affine_velocity[static_cast<std::size_t>(p)].row(d) += gradient.transpose() / (2 * delta);
+                                     "({:g}, {:g}, {:g}), which transfer: apic needs",
+                                     text, x.x(), x.y(), x.z()));
+      P.affine_velocity[static_cast<std::size_t>(p)].row(d) += gradient.transpose();
     }
   }
 }
@@ -118,28 +152,35 @@ void set_initial_affine_velocity(Scene<2>& scene, const BodySpec& body,
 // Fills the particles of one body: one point at every lattice site (for_each_body_site) that
 // lies inside the body. The placement jitter then moves each kept point within its own lattice
 // cell, so a rectangle aligned with the lattice keeps all its points inside; volumes stay
-// spacing^2 (the jitter perturbs the quadrature points, not the quadrature weights).
+// spacing^Dim (the jitter perturbs the quadrature points, not the quadrature weights).
 // `lattice` receives each new point's unjittered lattice position (tractions find the body's
 // outermost lattice row or column from it).
-void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector<Vec2>& lattice) {
+template <int Dim>
+void add_body(Scene<Dim>& scene, const BodySpec& body, int body_index,
+              std::vector<Vec<Dim>>& lattice) {
   const auto& grid = scene.grid;
   const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
   auto& P = scene.particles;
   std::vector<Index> created;
   // A fixed generator and distribution arithmetic of our own: std::uniform_real_distribution is
-  // implementation-defined, and the same seed must give the same points on every platform.
+  // implementation-defined, and the same seed must give the same points on every platform (so
+  // the components are drawn in a fixed order, x first, not as function arguments, whose
+  // order of evaluation C++ leaves open).
   std::mt19937 random(body.placement.seed);
   auto uniform = [&random] {
     return 2.0 * static_cast<double>(random() - std::mt19937::min()) /
                static_cast<double>(std::mt19937::max() - std::mt19937::min()) -
            1.0;
   };
-  for_each_body_site(grid, body, [&](const Vec2& site, double spacing) {
-    if (!inside_body(body, site) || !grid.inside(site))
+  for_each_body_site<Dim>(grid, body, [&](const Vec<Dim>& site, double spacing) {
+    if (!inside_body(body, padded<Dim>(site)) || !grid.inside(site))
       return;
-    Vec2 x = site;
+    Vec<Dim> x = site;
     if (body.placement.jitter > 0) {
-      const Vec2 moved = x + body.placement.jitter * spacing * Vec2(uniform(), uniform());
+      Vec<Dim> shift;
+      for (int d = 0; d < Dim; ++d)
+        shift[d] = uniform();
+      const Vec<Dim> moved = x + body.placement.jitter * spacing * shift;
       // Only a lattice cell cut by the grid boundary can send a point out; it stays put.
       if (grid.inside(moved))
         x = moved;
@@ -151,32 +192,34 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
     const auto s = static_cast<std::size_t>(p);
     P.x[s] = x;
     P.x0[s] = x;
-    P.volume0[s] = spacing * spacing;
+    P.volume0[s] = std::pow(spacing, Dim);
     P.volume[s] = P.volume0[s];
     P.mass[s] = mat.density * P.volume0[s];
-    P.half_size0[s] = Vec2::Constant(0.5 * spacing);
+    P.half_size0[s] = Vec<Dim>::Constant(0.5 * spacing);
     P.material[s] = body.material_index;
     P.body[s] = body_index;
-    P.v[s] = body.velocity;
+    P.v[s] = head<Dim>(body.velocity);
   });
   if (created.empty())
     throw InputError(body.where, fmt::format("body '{}' contains no material point at cell size "
                                              "{:g} with {} particles per cell; refine the grid",
                                              body.name, grid.cell_size(), body.particles_per_cell));
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < Dim; ++d) {
     if (body.velocity_expression[static_cast<std::size_t>(d)].empty())
       continue;
     try {
-      const PositionExpression velocity(body.velocity_expression[static_cast<std::size_t>(d)]);
+      const PositionExpression velocity(body.velocity_expression[static_cast<std::size_t>(d)], Dim);
       for (Index p : created) {
-        const Vec2& x = P.x[static_cast<std::size_t>(p)];
-        const double value = velocity(x.x(), x.y());
+        const Vec3 x = padded<Dim>(P.x[static_cast<std::size_t>(p)]);
+        const double value = velocity(x);
         if (!std::isfinite(value))
           throw std::invalid_argument(fmt::format(
-              "velocity expression '{}' is {} at ({:g}, {:g}), the position of a point of body "
-              "'{}'",
+              "velocity expression '{}' is {} at {}, the position of a point of body '{}'",
               body.velocity_expression[static_cast<std::size_t>(d)],
-              std::isnan(value) ? "not a number (NaN)" : "infinite", x.x(), x.y(), body.name));
+              std::isnan(value) ? "not a number (NaN)" : "infinite",
+              Dim == 3 ? fmt::format("({:g}, {:g}, {:g})", x.x(), x.y(), x.z())
+                       : fmt::format("({:g}, {:g})", x.x(), x.y()),
+              body.name));
         P.v[static_cast<std::size_t>(p)][d] = value;
       }
     } catch (const std::invalid_argument& e) {
@@ -184,8 +227,8 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
     }
   }
   if (body.angular_velocity != 0.0) {
-    // Rigid spin about the centroid of the generated points: v = v0 + omega x (x - c).
-    Vec2 c = Vec2::Zero();
+    // Rigid spin about the centroid of the generated points: v = v0 + omega x (x - c) (2D).
+    Vec<Dim> c = Vec<Dim>::Zero();
     double m = 0;
     for (Index p : created) {
       c += P.mass[static_cast<std::size_t>(p)] * P.x[static_cast<std::size_t>(p)];
@@ -193,15 +236,17 @@ void add_body(Scene<2>& scene, const BodySpec& body, int body_index, std::vector
     }
     c /= m;
     for (Index p : created) {
-      const Vec2 r = P.x[static_cast<std::size_t>(p)] - c;
-      P.v[static_cast<std::size_t>(p)] += body.angular_velocity * Vec2(-r.y(), r.x());
+      const Vec<Dim> r = P.x[static_cast<std::size_t>(p)] - c;
+      P.v[static_cast<std::size_t>(p)][0] -= body.angular_velocity * r[1];
+      P.v[static_cast<std::size_t>(p)][1] += body.angular_velocity * r[0];
     }
   }
   if (scene.spec.solver.transfer == TransferScheme::Apic)
-    set_initial_affine_velocity(scene, body, created);
+    set_initial_affine_velocity<Dim>(scene, body, created);
 }
 
-Index nearest_particle(const Particles<2>& P, const Vec2& q) {
+template <int Dim> Index nearest_particle(const Particles<Dim>& P, const Vec3& q3) {
+  const Vec<Dim> q = head<Dim>(q3);
   Index best = -1;
   double best_d = std::numeric_limits<double>::infinity();
   for (Index p = 0; p < P.size(); ++p) {
@@ -214,14 +259,14 @@ Index nearest_particle(const Particles<2>& P, const Vec2& q) {
   return best;
 }
 
-void apply_tractions(Scene<2>& scene, const std::vector<Vec2>& lattice) {
+template <int Dim> void apply_tractions(Scene<Dim>& scene, const std::vector<Vec<Dim>>& lattice) {
   auto& P = scene.particles;
   for (const TractionSpec& t : scene.spec.tractions) {
-    // The outermost lattice row or column of the body on the given side carries the traction;
-    // each point takes the share of the side length its voxel covers. Found and placed on the
-    // lattice sites, so a jittered point still loads its lattice voxel's face.
-    const int axis = (t.side == Side::Left || t.side == Side::Right) ? 0 : 1;
-    const bool upper = (t.side == Side::Right || t.side == Side::Top);
+    // The outermost lattice layer of the body on the given side carries the traction; each
+    // point takes the share of the side its voxel covers. Found and placed on the lattice
+    // sites, so a jittered point still loads its lattice voxel's face.
+    const int axis = face_axis(t.side);
+    const bool upper = face_is_upper(t.side);
     double extreme =
         upper ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
     for (Index p = 0; p < P.size(); ++p) {
@@ -237,11 +282,15 @@ void apply_tractions(Scene<2>& scene, const std::vector<Vec2>& lattice) {
       const double tol = 1e-6 * P.half_size0[s][axis];
       if (std::abs(lattice[s][axis] - extreme) > tol)
         continue;
-      SurfaceLoad load;
+      SurfaceLoad<Dim> load;
       load.particle = p;
       load.offset = lattice[s] - P.x[s];
       load.offset[axis] += (upper ? 1.0 : -1.0) * P.half_size0[s][axis];
-      load.force = t.traction * (2.0 * P.half_size0[s][1 - axis]);
+      double face = 1.0; // the voxel face's length (2D) or area (3D)
+      for (int d = 0; d < Dim; ++d)
+        if (d != axis)
+          face *= 2.0 * P.half_size0[s][d];
+      load.force = head<Dim>(t.traction) * face;
       // Only an implicit analysis has a load factor; explicit loads are always in full.
       load.constant = t.constant && scene.spec.analysis != AnalysisType::Explicit;
       scene.surface_loads.push_back(load);
@@ -249,36 +298,34 @@ void apply_tractions(Scene<2>& scene, const std::vector<Vec2>& lattice) {
   }
 }
 
-void constrain_faces(Scene<2>& scene) {
+template <int Dim> void constrain_faces(Scene<Dim>& scene) {
   const auto& g = scene.grid;
   const auto& bc = scene.spec.boundaries;
   scene.constrained.assign(static_cast<std::size_t>(g.node_count()), 0);
-  scene.component_face.assign(2 * static_cast<std::size_t>(g.node_count()), -1);
+  scene.component_face.assign(Dim * static_cast<std::size_t>(g.node_count()), -1);
   auto mask_of = [](FaceCondition c, int normal_axis) -> std::uint8_t {
     switch (c) {
     case FaceCondition::Free:
       return 0;
     case FaceCondition::Fixed:
-      return 0b11;
+      return static_cast<std::uint8_t>((1u << Dim) - 1);
     case FaceCondition::Roller:
       return static_cast<std::uint8_t>(1u << normal_axis);
     }
     return 0;
   };
-  const FaceCondition conds[kFaceCount] = {bc.x_min, bc.x_max, bc.y_min, bc.y_max};
   for (Index id = 0; id < g.node_count(); ++id) {
     const auto ijk = g.node_ijk(id);
-    for (int face = 0; face < kFaceCount; ++face) {
-      const int axis = face / 2;
-      const bool upper = face % 2 == 1;
+    for (int face = 0; face < face_count(Dim); ++face) {
+      const int axis = face_axis(face);
       // The boundary node and the ghost node behind it (inside the wall) share the condition.
-      const bool on_face = upper ? ijk[axis] >= g.cells(axis) : ijk[axis] <= 0;
-      if (!on_face || conds[face] == FaceCondition::Free)
+      const bool on_face = face_is_upper(face) ? ijk[axis] >= g.cells(axis) : ijk[axis] <= 0;
+      if (!on_face || bc[face] == FaceCondition::Free)
         continue;
-      const std::uint8_t mask = mask_of(conds[face], axis);
+      const std::uint8_t mask = mask_of(bc[face], axis);
       scene.constrained[static_cast<std::size_t>(id)] |= mask;
-      for (int d = 0; d < 2; ++d) {
-        auto& owner = scene.component_face[2 * static_cast<std::size_t>(id) + d];
+      for (int d = 0; d < Dim; ++d) {
+        auto& owner = scene.component_face[Dim * static_cast<std::size_t>(id) + d];
         if ((mask & (1u << d)) && (owner < 0 || d == axis))
           owner = static_cast<std::int8_t>(face);
       }
@@ -287,8 +334,8 @@ void constrain_faces(Scene<2>& scene) {
 }
 
 // Geostatic or uniform initial stresses of the bodies that ask for one: the particles' stress
-// and the elastic strain their material starts from.
-void apply_initial_stress(Scene<2>& scene) {
+// and the elastic strain their material starts from. Geostatic: the vertical axis is y.
+template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
   const CaseSpec& spec = scene.spec;
   auto& P = scene.particles;
   for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
@@ -308,12 +355,9 @@ void apply_initial_stress(Scene<2>& scene) {
       ids.push_back(p);
       Mat3 sigma = Mat3::Zero();
       if (init.kind == BodySpec::InitialStress::Kind::Uniform) {
-        sigma(0, 0) = init.stress[0];
-        sigma(1, 1) = init.stress[1];
-        sigma(0, 1) = sigma(1, 0) = init.stress[2];
-        sigma(2, 2) = init.stress[3];
+        sigma = init.stress;
       } else {
-        const double vertical = -unit_weight * std::max(0.0, init.surface - P.x[s].y());
+        const double vertical = -unit_weight * std::max(0.0, init.surface - P.x[s][1]);
         sigma(1, 1) = vertical;
         sigma(0, 0) = sigma(2, 2) = k0 * vertical;
       }
@@ -330,24 +374,24 @@ void apply_initial_stress(Scene<2>& scene) {
 
 } // namespace
 
-void locate_prescribed_nodes(Scene<2>& scene, double ramp) {
+template <int Dim> void locate_prescribed_nodes(Scene<Dim>& scene, double ramp) {
   const CaseSpec& spec = scene.spec;
   scene.node_prescribed.assign(static_cast<std::size_t>(scene.grid.node_count()), -1);
   const double tol = 1e-9 * scene.grid.cell_size();
   for (Index id = 0; id < scene.grid.node_count(); ++id) {
-    const Vec2 x = scene.grid.node_position(scene.grid.node_ijk(id));
+    const Vec<Dim> x = scene.grid.node_position(scene.grid.node_ijk(id));
     for (std::size_t r = 0; r < spec.prescribed.size(); ++r) {
       const PrescribedSpec& box = spec.prescribed[r];
       // The box moves in whole cells, the prescribed displacement rounded to the nearest
       // multiple of h, so that it keeps holding the same number of node layers (a box one
       // layer thick would otherwise lose its nodes as soon as it moves).
       const double h = scene.grid.cell_size();
-      Vec2 shift = Vec2::Zero();
-      for (int d = 0; d < 2; ++d)
+      Vec<Dim> shift = Vec<Dim>::Zero();
+      for (int d = 0; d < Dim; ++d)
         if (box.displacement[static_cast<std::size_t>(d)])
           shift[d] = h * std::round(ramp * *box.displacement[static_cast<std::size_t>(d)] / h);
-      if ((x.array() >= (box.min + shift).array() - tol).all() &&
-          (x.array() <= (box.max + shift).array() + tol).all()) {
+      if ((x.array() >= (head<Dim>(box.min) + shift).array() - tol).all() &&
+          (x.array() <= (head<Dim>(box.max) + shift).array() + tol).all()) {
         scene.node_prescribed[static_cast<std::size_t>(id)] = static_cast<std::int32_t>(r);
         break;
       }
@@ -355,20 +399,20 @@ void locate_prescribed_nodes(Scene<2>& scene, double ramp) {
   }
 }
 
-Scene<2> build_scene(const CaseSpec& spec) {
-  Scene<2> scene;
+template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
+  Scene<Dim> scene;
   scene.spec = spec;
   const auto& g = spec.grid;
-  std::array<Index, 2> cells{};
-  for (int d = 0; d < 2; ++d)
+  std::array<Index, Dim> cells{};
+  for (int d = 0; d < Dim; ++d)
     cells[d] = static_cast<Index>(std::llround(g.extent[d] / g.cell_size));
-  scene.grid = Grid<2>(g.origin, g.cell_size, cells);
+  scene.grid = Grid<Dim>(head<Dim>(g.origin), g.cell_size, cells);
 
   for (const MaterialSpec& m : spec.materials)
     scene.materials.push_back(make_material(m));
-  std::vector<Vec2> lattice;
+  std::vector<Vec<Dim>> lattice;
   for (std::size_t b = 0; b < spec.bodies.size(); ++b)
-    add_body(scene, spec.bodies[b], static_cast<int>(b), lattice);
+    add_body<Dim>(scene, spec.bodies[b], static_cast<int>(b), lattice);
 
   scene.particles_of_material.resize(spec.materials.size());
   for (Index p = 0; p < scene.particles.size(); ++p)
@@ -377,17 +421,17 @@ Scene<2> build_scene(const CaseSpec& spec) {
             scene.particles.material[static_cast<std::size_t>(p)])]
         .push_back(p);
 
-  apply_initial_stress(scene);
+  apply_initial_stress<Dim>(scene);
   enable_splitting(scene);
 
   for (const PointLoadSpec& load : spec.point_loads) {
-    const Index p = nearest_particle(scene.particles, load.point);
-    scene.particles.external_force[static_cast<std::size_t>(p)] += load.force;
+    const Index p = nearest_particle<Dim>(scene.particles, load.point);
+    scene.particles.external_force[static_cast<std::size_t>(p)] += head<Dim>(load.force);
   }
-  apply_tractions(scene, lattice);
-  constrain_faces(scene);
+  apply_tractions<Dim>(scene, lattice);
+  constrain_faces<Dim>(scene);
 
-  locate_prescribed_nodes(scene, 0.0);
+  locate_prescribed_nodes<Dim>(scene, 0.0);
   for (const ProbeSpec& probe : spec.probes) {
     Index p = -1;
     if (probe.particle) {
@@ -399,12 +443,15 @@ Scene<2> build_scene(const CaseSpec& spec) {
                                      probe.name, p, scene.particles.size(),
                                      scene.particles.size() - 1));
     } else {
-      p = nearest_particle(scene.particles, *probe.point);
+      p = nearest_particle<Dim>(scene.particles, *probe.point);
     }
     scene.probe_particles.push_back(p);
     scene.probe_names.push_back(probe.name);
   }
   return scene;
 }
+
+template Scene<2> build_scene<2>(const CaseSpec&);
+template void locate_prescribed_nodes<2>(Scene<2>&, double);
 
 } // namespace talus

@@ -7,18 +7,25 @@
 
 namespace talus {
 
-SplitMode split_mode(const Mat2& Fs, const SplitSpec& spec) {
-  if (Fs(0, 0) > spec.alpha || Fs(1, 1) > spec.alpha)
+template <int Dim> SplitMode split_mode(const Mat<Dim>& Fs, const SplitSpec& spec) {
+  const auto diagonal = Fs.diagonal();
+  if ((diagonal.array() > spec.alpha).any())
     return SplitMode::Stretch;
-  if (Fs(0, 0) < spec.beta || Fs(1, 1) < spec.beta)
+  if ((diagonal.array() < spec.beta).any())
     return SplitMode::Compression;
-  if (std::abs(Fs(0, 1)) > spec.gamma || std::abs(Fs(1, 0)) > spec.gamma)
-    return SplitMode::Shear;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j)
+      if (i != j && std::abs(Fs(i, j)) > spec.gamma)
+        return SplitMode::Shear;
   return SplitMode::None;
 }
 
-int split_axis(const Mat2& F, const Vec2& half_size0) {
-  return F.col(1).norm() * half_size0.y() > F.col(0).norm() * half_size0.x() ? 1 : 0;
+template <int Dim> int split_axis(const Mat<Dim>& F, const Vec<Dim>& half_size0) {
+  int axis = 0;
+  for (int d = 1; d < Dim; ++d)
+    if (F.col(d).norm() * half_size0[d] > F.col(axis).norm() * half_size0[axis])
+      axis = d;
+  return axis;
 }
 
 bool splitting_requested(const CaseSpec& spec) {
@@ -26,21 +33,21 @@ bool splitting_requested(const CaseSpec& spec) {
                      [](const BodySpec& b) { return b.split.has_value(); });
 }
 
-void enable_splitting(Scene<2>& scene) {
+template <int Dim> void enable_splitting(Scene<Dim>& scene) {
   if (!splitting_requested(scene.spec))
     return;
   auto& P = scene.particles;
-  P.split_origin_inverse.assign(static_cast<std::size_t>(P.size()), Mat2::Identity());
+  P.split_origin_inverse.assign(static_cast<std::size_t>(P.size()), Mat3::Identity());
   P.split_generation.assign(static_cast<std::size_t>(P.size()), 0);
 }
 
-Index split_point(Particles<2>& P, Index p, int axis) {
+template <int Dim> Index split_point(Particles<Dim>& P, Index p, int axis) {
   const Index q = P.append_copy(p);
   const auto a = static_cast<std::size_t>(p);
   const auto b = static_cast<std::size_t>(q);
-  Vec2 shift0 = Vec2::Zero();
+  Vec<Dim> shift0 = Vec<Dim>::Zero();
   shift0[axis] = 0.5 * P.half_size0[a][axis];
-  const Vec2 shift = P.F[a] * shift0;
+  const Vec<Dim> shift = P.grid_F(a) * shift0;
   P.x[a] -= shift;
   P.x[b] += shift;
   P.x0[a] -= shift0;
@@ -64,16 +71,17 @@ namespace {
 // A traction on the face of split point p (reference offset o from its centre): a face across
 // the cut (o_axis = 0) is shared, half the force on each child at the same offset; a face
 // normal to the cut belongs to the child on its side, at the child's half-width.
-void move_surface_loads(std::vector<SurfaceLoad>& loads, Index p, Index q, int axis,
+template <int Dim>
+void move_surface_loads(std::vector<SurfaceLoad<Dim>>& loads, Index p, Index q, int axis,
                         double child_half) {
   const std::size_t count = loads.size();
   for (std::size_t k = 0; k < count; ++k) {
-    SurfaceLoad& load = loads[k];
+    SurfaceLoad<Dim>& load = loads[k];
     if (load.particle != p)
       continue;
     if (load.offset[axis] == 0.0) {
       load.force *= 0.5;
-      SurfaceLoad copy = load;
+      SurfaceLoad<Dim> copy = load;
       copy.particle = q;
       loads.push_back(copy);
       continue;
@@ -86,7 +94,7 @@ void move_surface_loads(std::vector<SurfaceLoad>& loads, Index p, Index q, int a
 
 } // namespace
 
-Index split_material_points(Scene<2>& scene) {
+template <int Dim> Index split_material_points(Scene<Dim>& scene) {
   auto& P = scene.particles;
   if (P.split_generation.empty())
     return 0;
@@ -97,11 +105,13 @@ Index split_material_points(Scene<2>& scene) {
     const auto& split = scene.spec.bodies[static_cast<std::size_t>(P.body[s])].split;
     if (!split || P.split_generation[s] >= split->max_generations)
       continue;
-    if (split_mode(P.F[s] * P.split_origin_inverse[s], *split) == SplitMode::None)
+    const Mat3 F_split = P.F[s] * P.split_origin_inverse[s];
+    if (split_mode<Dim>(F_split.template topLeftCorner<Dim, Dim>(), *split) == SplitMode::None)
       continue;
-    const int axis = split_axis(P.F[s], P.half_size0[s]);
+    const Mat<Dim> F = P.grid_F(s);
+    const int axis = split_axis<Dim>(F, P.half_size0[s]);
     // A child's deformed edge across the cut: half the parent's, |F e_d| 2 h_d / 2.
-    if (P.F[s].col(axis).norm() * P.half_size0[s][axis] < split->min_size)
+    if (F.col(axis).norm() * P.half_size0[s][axis] < split->min_size)
       continue;
     splits.emplace_back(p, axis);
   }
@@ -114,11 +124,19 @@ Index split_material_points(Scene<2>& scene) {
     sources.push_back(p);
     const auto s = static_cast<std::size_t>(p);
     scene.particles_of_material[static_cast<std::size_t>(P.material[s])].push_back(q);
-    move_surface_loads(scene.surface_loads, p, q, axis, P.half_size0[s][axis]);
+    move_surface_loads<Dim>(scene.surface_loads, p, q, axis, P.half_size0[s][axis]);
   }
   for (const auto& material : scene.materials)
     material->append_copies(old_count, sources);
   return static_cast<Index>(splits.size());
 }
+
+template SplitMode split_mode<2>(const Mat2&, const SplitSpec&);
+template SplitMode split_mode<3>(const Mat3&, const SplitSpec&);
+template int split_axis<2>(const Mat2&, const Vec2&);
+template int split_axis<3>(const Mat3&, const Vec3&);
+template void enable_splitting<2>(Scene<2>&);
+template Index split_point<2>(Particles<2>&, Index, int);
+template Index split_material_points<2>(Scene<2>&);
 
 } // namespace talus

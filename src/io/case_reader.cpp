@@ -127,33 +127,35 @@ int Validator::dimension(const Item& it) const {
 GridSpec Validator::grid(const Item& it) const {
   const Map m(*this, it, {"origin", "extent", "cell_size"});
   GridSpec g;
+  g.dimension = dimension_;
   g.where = locate(m.self());
   if (m.has("origin"))
-    g.origin = vec2(m["origin"]);
+    g.origin = point(m["origin"]);
   const Item extent = m.required("extent");
-  g.extent = vec2(extent);
-  if (!(g.extent.x() > 0 && g.extent.y() > 0))
-    fail(extent, "both components must be > 0 (got " + vec(g.extent) + ")");
+  g.extent = point(extent);
+  for (int d = 0; d < dimension_; ++d)
+    if (!(g.extent[d] > 0))
+      fail(extent, "every component must be > 0 (got " + vec(g.extent, dimension_) + ")");
   const Item cell = m.required("cell_size");
   g.cell_size = positive(cell);
-  for (int d = 0; d < 2; ++d)
+  for (int d = 0; d < dimension_; ++d)
     if (!std::isfinite(g.origin[d] + g.extent[d]))
       fail(extent, "origin + extent overflows the double-precision range (the grid would end at "
                    "infinity)");
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < dimension_; ++d) {
     const double cells = g.extent[d] / g.cell_size;
     // Beyond 2^53 cells consecutive counts are no longer distinct doubles (and no index type
     // holds the node count); the memory estimate refuses far smaller grids anyway.
     if (!std::isfinite(cells) || cells > 9.0e15)
       fail(cell, fmt::format("the grid extent in {} ({} m) divided by the cell size ({} m) is {} "
                              "cells, more than can be counted",
-                             d == 0 ? "x" : "y", num(g.extent[d]), num(g.cell_size), num(cells)));
+                             "xyz"[d], num(g.extent[d]), num(g.cell_size), num(cells)));
     const double whole = std::round(cells);
     if (whole < 1 || std::abs(cells - whole) > 1e-9 * cells)
       fail(cell, fmt::format("the grid extent in {} ({} m) is not a whole number of cells of "
                              "size {} m ({} / {} = {})",
-                             d == 0 ? "x" : "y", num(g.extent[d]), num(g.cell_size),
-                             num(g.extent[d]), num(g.cell_size), num(cells)));
+                             "xyz"[d], num(g.extent[d]), num(g.cell_size), num(g.extent[d]),
+                             num(g.cell_size), num(cells)));
   }
   return g;
 }
@@ -174,10 +176,11 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.analysis = analysis(top["analysis"]);
   if (top.has("dimension"))
     spec.dimension = dimension(top["dimension"]);
+  dimension_ = spec.dimension;
   spec.grid = grid(top.required("grid"));
   spec.materials = materials(top.required("materials"));
   if (top.has("gravity"))
-    spec.gravity = vec2(top["gravity"]);
+    spec.gravity = point(top["gravity"]);
   spec.bodies = bodies(top.required("bodies"), spec);
   if (top.present("stages")) {
     for (const char* key : {"analysis", "time"})

@@ -2,6 +2,12 @@
 
 namespace talus {
 
+const char* face_name(int face) {
+  static const char* const names[kMaxFaces] = {"x_min", "x_max", "y_min",
+                                               "y_max", "z_min", "z_max"};
+  return names[face];
+}
+
 const Choices<AnalysisType>& analysis_choices() {
   static const Choices<AnalysisType> c{{"explicit", AnalysisType::Explicit},
                                        {"implicit_quasistatic", AnalysisType::ImplicitQuasistatic},
@@ -38,11 +44,15 @@ const Choices<TransferScheme>& transfer_scheme_choices() {
   return c;
 }
 
-const Choices<BodyShape>& body_shape_choices() {
-  static const Choices<BodyShape> c{{"rectangle", BodyShape::Rectangle},
-                                    {"disc", BodyShape::Disc},
-                                    {"polygon", BodyShape::Polygon}};
-  return c;
+const Choices<BodyShape>& body_shape_choices(int dimension) {
+  static const Choices<BodyShape> plane{{"rectangle", BodyShape::Rectangle},
+                                        {"disc", BodyShape::Disc},
+                                        {"polygon", BodyShape::Polygon}};
+  static const Choices<BodyShape> solid{{"box", BodyShape::Rectangle},
+                                        {"sphere", BodyShape::Disc},
+                                        {"cylinder", BodyShape::Cylinder},
+                                        {"prism", BodyShape::Polygon}};
+  return dimension == 3 ? solid : plane;
 }
 
 const Choices<OutputField>& output_field_choices() {

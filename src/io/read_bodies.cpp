@@ -2,6 +2,8 @@
 // and refinement (docs/case-format.md, bodies). Shapes and their geometry: read_body_geometry.cpp.
 #include "validator.hpp"
 
+#include "talus/core/body_geometry.hpp"
+
 namespace talus::detail {
 
 std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) const {
@@ -16,9 +18,9 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
   UniqueNames names(*this, "body");
   for (const Item& item : items) {
     const Map m(*this, item,
-                {"name", "material", "shape", "centre", "radius", "min", "max", "vertices",
-                 "particles_per_cell", "velocity", "angular_velocity", "initial_stress", "split",
-                 "placement", "refine"});
+                {"name", "material", "shape", "centre", "radius", "min", "max", "vertices", "axis",
+                 "z_min", "z_max", "particles_per_cell", "velocity", "angular_velocity",
+                 "initial_stress", "split", "placement", "refine"});
     BodySpec b;
     b.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -50,12 +52,16 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
     if (m.has("velocity")) {
       const Item velocity = m["velocity"];
       position_field(velocity, b.velocity, b.velocity_expression);
-      for (std::size_t d = 0; d < 2; ++d)
+      for (std::size_t d = 0; d < static_cast<std::size_t>(dimension_); ++d)
         b.velocity_where[d] =
             locate(mark_or(velocity.node[d], velocity.mark), child_path(velocity.path, d));
     }
-    if (m.has("angular_velocity"))
+    if (m.has("angular_velocity")) {
+      if (dimension_ == 3)
+        fail(m.key("angular_velocity"), "angular_velocity is a spin about z of a 2D body; a 3D "
+                                        "case has no such key yet");
       b.angular_velocity = number(m["angular_velocity"]);
+    }
     if (m.present("placement"))
       b.placement = placement(m["placement"]);
 
@@ -76,7 +82,7 @@ BodySpec::Placement Validator::placement(const Item& it) const {
   const Map m(*this, it, {"offset", "jitter", "seed"});
   BodySpec::Placement p;
   if (m.has("offset")) {
-    p.offset = vec2(m["offset"]);
+    p.offset = point(m["offset"]);
     // Half a spacing or more would move a point into its neighbour's lattice cell.
     if (p.offset.cwiseAbs().maxCoeff() >= 0.5)
       fail(m["offset"], "each component must lie in the open interval (-0.5, 0.5) (a fraction "
@@ -118,29 +124,32 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
   if (s.kind == Kind::Uniform) {
     const Item stress = m.required("stress");
     const std::vector<Item> values = list(stress);
-    if (values.size() != 4)
-      fail(stress, "give four stresses [sigma_xx, sigma_yy, sigma_xy, sigma_zz] in Pa");
-    for (std::size_t k = 0; k < 4; ++k)
-      s.stress[k] = number(values[k]);
+    // 2D: the in-plane components and sigma_zz; 3D: the six of the symmetric tensor.
+    const std::size_t count = dimension_ == 3 ? 6 : 4;
+    if (values.size() != count)
+      fail(stress, dimension_ == 3 ? "give six stresses [sigma_xx, sigma_yy, sigma_zz, sigma_xy, "
+                                     "sigma_yz, sigma_xz] in Pa"
+                                   : "give four stresses [sigma_xx, sigma_yy, sigma_xy, sigma_zz] "
+                                     "in Pa");
+    std::array<double, 6> c{};
+    for (std::size_t k = 0; k < count; ++k)
+      c[k] = number(values[k]);
+    if (dimension_ == 3)
+      s.stress << c[0], c[3], c[5], c[3], c[1], c[4], c[5], c[4], c[2];
+    else
+      s.stress << c[0], c[2], 0, c[2], c[1], 0, 0, 0, c[3];
     s.where = locate(stress);
     return s;
   }
-  if (spec.gravity.norm() == 0.0 || spec.gravity.x() != 0.0 || spec.gravity.y() > 0.0)
-    fail(m.self(), "a geostatic initial stress needs gravity along -y (gravity: [0, -g])");
+  if (spec.gravity.norm() == 0.0 || spec.gravity.x() != 0.0 || spec.gravity.y() > 0.0 ||
+      spec.gravity.z() != 0.0)
+    fail(m.self(), dimension_ == 3
+                       ? "a geostatic initial stress needs gravity along -y (gravity: [0, -g, 0])"
+                       : "a geostatic initial stress needs gravity along -y (gravity: [0, -g])");
   // Default surface: the body's top.
-  switch (b.shape) {
-  case BodyShape::Rectangle:
-    s.surface = b.max.y();
-    break;
-  case BodyShape::Disc:
-    s.surface = b.centre.y() + b.radius;
-    break;
-  case BodyShape::Polygon:
-    s.surface = -std::numeric_limits<double>::infinity();
-    for (const Vec2& v : b.vertices)
-      s.surface = std::max(s.surface, v.y());
-    break;
-  }
+  Vec3 lo, hi;
+  bounding_box(b, dimension_, lo, hi);
+  s.surface = hi.y();
   if (m.has("surface"))
     s.surface = number(m["surface"]);
   s.where = locate(m.self());
@@ -197,15 +206,20 @@ BodySpec::Refine Validator::refine(const Item& it) const {
   if (n < 1 || n > 16)
     fail(ppc, "must be an integer from 1 to 16 (got " + shown(ppc.node.Scalar()) + ")");
   r.particles_per_cell = static_cast<int>(n);
+  const auto dims = static_cast<std::size_t>(dimension_);
   for (const Item& box : list(m.required("boxes"))) {
     const std::vector<Item> values = list(box);
-    if (values.size() != 4)
-      fail(box, "give a box as [x_min, y_min, x_max, y_max] in m");
-    std::array<double, 4> b{};
-    for (std::size_t k = 0; k < 4; ++k)
-      b[k] = number(values[k]);
-    if (!(b[2] > b[0] && b[3] > b[1]))
-      fail(box, "a box needs x_max > x_min and y_max > y_min");
+    if (values.size() != 2 * dims)
+      fail(box, dims == 3 ? "give a box as [x_min, y_min, z_min, x_max, y_max, z_max] in m"
+                          : "give a box as [x_min, y_min, x_max, y_max] in m");
+    BodySpec::Refine::Box b;
+    for (std::size_t k = 0; k < dims; ++k) {
+      b.min[static_cast<Eigen::Index>(k)] = number(values[k]);
+      b.max[static_cast<Eigen::Index>(k)] = number(values[dims + k]);
+    }
+    if (!below_along_all(b.min, b.max, dimension_))
+      fail(box, dims == 3 ? "a box needs x_max > x_min, y_max > y_min and z_max > z_min"
+                          : "a box needs x_max > x_min and y_max > y_min");
     r.boxes.push_back(b);
   }
   return r;

@@ -5,17 +5,25 @@
 namespace talus::detail {
 
 BoundarySpec Validator::boundaries(const Item& it) const {
-  const Map m(*this, it, {"x_min", "x_max", "y_min", "y_max"});
+  std::vector<std::string> keys;
+  for (int f = 0; f < face_count(dimension_); ++f)
+    keys.push_back(face_name(f));
+  if (dimension_ == 2)
+    for (const char* key : {"z_min", "z_max"})
+      if (it.node.IsMap() && it.node[key])
+        fail(Item{it.node[key], mark_or(it.node[key], it.mark), child_path(it.path, key)},
+             std::string("a 2D case has no face ") + key +
+                 " (dimension: 2; faces x_min, x_max, "
+                 "y_min, y_max)");
+  const Map m(*this, it, keys);
   const std::vector<std::pair<std::string, FaceCondition>> options{
       {"free", FaceCondition::Free},
       {"fixed", FaceCondition::Fixed},
       {"roller", FaceCondition::Roller}};
   BoundarySpec b;
-  const std::pair<const char*, FaceCondition*> faces[] = {
-      {"x_min", &b.x_min}, {"x_max", &b.x_max}, {"y_min", &b.y_min}, {"y_max", &b.y_max}};
-  for (const auto& [key, field] : faces)
-    if (m.has(key))
-      *field = choice(m[key], options);
+  for (int f = 0; f < face_count(dimension_); ++f)
+    if (m.has(face_name(f)))
+      b[f] = choice(m[face_name(f)], options);
   return b;
 }
 
@@ -35,11 +43,11 @@ std::vector<PointLoadSpec> Validator::point_loads(const Item& it, const CaseSpec
       names.add(p.name, m.self(), items[i].path + " (default name)");
     }
     const Item point = m.required("point");
-    p.point = vec2(point);
+    p.point = this->point(point);
     if (!inside_grid(p.point, spec.grid))
-      fail(point,
-           "point load at " + vec(p.point) + " lies outside the grid; " + grid_box(spec.grid));
-    p.force = vec2(m.required("force"));
+      fail(point, "point load at " + vec(p.point, dimension_) + " lies outside the grid; " +
+                      grid_box(spec.grid));
+    p.force = this->point(m.required("force"));
     out.push_back(std::move(p));
   }
   return out;
@@ -70,11 +78,13 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
     if (shape != BodyShape::Rectangle)
       fail(body, "a traction needs a rectangle body, but body '" + t.body + "' is a " +
                      (shape == BodyShape::Disc ? "disc" : "polygon"));
-    t.side = choice<Side>(m.required("side"), {{"left", Side::Left},
-                                               {"right", Side::Right},
-                                               {"bottom", Side::Bottom},
-                                               {"top", Side::Top}});
-    t.traction = vec2(m.required("traction"));
+    // The sides of a 2D rectangle by name; a 3D box adds back (z_min) and front (z_max).
+    std::vector<std::pair<std::string, int>> sides{
+        {"left", kXMin}, {"right", kXMax}, {"bottom", kYMin}, {"top", kYMax}};
+    if (dimension_ == 3)
+      sides.insert(sides.end(), {{"back", kZMin}, {"front", kZMax}});
+    t.side = choice<int>(m.required("side"), sides);
+    t.traction = this->point(m.required("traction"));
     if (m.has("constant"))
       t.constant = boolean(m["constant"]);
     out.push_back(std::move(t));
@@ -84,7 +94,7 @@ std::vector<TractionSpec> Validator::tractions(const Item& it, const CaseSpec& s
 
 std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec& spec) const {
   std::vector<PrescribedSpec> out;
-  const Vec2 lo = spec.grid.origin, hi = spec.grid.origin + spec.grid.extent;
+  const Vec3 lo = spec.grid.origin, hi = spec.grid.origin + spec.grid.extent;
   const double tol = 1e-9 * spec.grid.cell_size;
   for (const Item& item : list(it)) {
     const Map m(*this, item, {"name", "min", "max", "displacement"});
@@ -96,25 +106,31 @@ std::vector<PrescribedSpec> Validator::prescribed(const Item& it, const CaseSpec
     for (const auto& other : out)
       if (other.name == p.name)
         fail(name_item, "duplicate name '" + p.name + "'");
-    p.min = vec2(m.required("min"));
+    p.min = point(m.required("min"));
     const Item max_item = m.required("max");
-    p.max = vec2(max_item);
-    if (!(p.max.x() >= p.min.x() && p.max.y() >= p.min.y()))
-      fail(max_item, "max must not be below min in either direction");
+    p.max = point(max_item);
+    for (int d = 0; d < dimension_; ++d)
+      if (p.max[d] < p.min[d])
+        fail(max_item, "max must not be below min in any direction");
     for (const auto& [key, corner] : {std::pair{"min", p.min}, std::pair{"max", p.max}})
-      if ((corner.array() < lo.array() - tol).any() || (corner.array() > hi.array() + tol).any())
-        fail(m[key], std::string(key) + " lies outside the grid");
+      for (int d = 0; d < dimension_; ++d)
+        if (corner[d] < lo[d] - tol || corner[d] > hi[d] + tol)
+          fail(m[key], std::string(key) + " lies outside the grid");
     const Item d = m.required("displacement");
-    if (!d.node.IsSequence() || d.node.size() != 2)
-      fail(d, "expected a 2-element list [ux, uy]; write ~ (null) for a free component");
-    for (std::size_t i = 0; i < 2; ++i) {
+    if (!d.node.IsSequence() || d.node.size() != static_cast<std::size_t>(dimension_))
+      fail(d,
+           std::string("expected ") +
+               (dimension_ == 3 ? "a 3-element list [ux, uy, uz]" : "a 2-element list [ux, uy]") +
+               "; write ~ (null) for a free component");
+    for (std::size_t i = 0; i < d.node.size(); ++i) {
       const Item c{d.node[i], mark_or(d.node[i], d.mark), child_path(d.path, i)};
       if (c.node.IsNull())
         continue;
       p.displacement[i] = number(c);
     }
-    if (!p.displacement[0] && !p.displacement[1])
-      fail(d, "both components are free (~); prescribe at least one");
+    if (std::none_of(p.displacement.begin(), p.displacement.end(),
+                     [](const std::optional<double>& u) { return u.has_value(); }))
+      fail(d, "every component is free (~); prescribe at least one");
     if (const std::string stage = explicit_stage(spec); !stage.empty())
       fail(m.self(), "prescribed displacements need an implicit analysis "
                      "(implicit_quasistatic or implicit_dynamic), but " +

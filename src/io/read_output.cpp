@@ -62,10 +62,10 @@ std::vector<ProbeSpec> Validator::probes(const Item& it, const GridSpec& grid) c
     if (m.has("point") && m.has("particle"))
       fail(m.key("particle"), "give exactly one of 'point' and 'particle', not both");
     if (m.has("point")) {
-      p.point = vec2(m["point"]);
+      p.point = point(m["point"]);
       if (!inside_grid(*p.point, grid))
-        fail(m["point"],
-             "probe point " + vec(*p.point) + " lies outside the grid; " + grid_box(grid));
+        fail(m["point"], "probe point " + vec(*p.point, dimension_) + " lies outside the grid; " +
+                             grid_box(grid));
     } else if (m.has("particle")) {
       const Item particle = m["particle"];
       p.particle = integer(particle);

@@ -201,8 +201,9 @@ ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
     h5::write_string_attribute(g.get(), "case_file", m.case_file, s);
     h5::write_string_attribute(g.get(), "version", m.version, s);
     h5::write_int64_attribute(g.get(), "dimension", m.dimension, s);
-    h5::write_double_attribute(g.get(), "grid_origin", m.grid_origin.data(), 2, false, s);
-    h5::write_double_attribute(g.get(), "grid_extent", m.grid_extent.data(), 2, false, s);
+    const auto dims = static_cast<std::size_t>(m.dimension);
+    h5::write_double_attribute(g.get(), "grid_origin", m.grid_origin.data(), dims, false, s);
+    h5::write_double_attribute(g.get(), "grid_extent", m.grid_extent.data(), dims, false, s);
     h5::write_double_attribute(g.get(), "cell_size", &m.cell_size, 1, true, s);
     h5::write_string_attribute(g.get(), "material_names", join_lines(m.material_names), s);
     h5::write_string_attribute(g.get(), "body_names", join_lines(m.body_names), s);
@@ -322,11 +323,10 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
         const auto& src = name == "mass" ? p.mass : p.volume;
         buf.assign(src.begin(), src.end());
       } else if (name == "F") {
-        for (std::size_t i = 0; i < un; ++i) {
-          const Mat2& F = p.F[i];
-          const double row[9] = {F(0, 0), F(0, 1), 0.0, F(1, 0), F(1, 1), 0.0, 0.0, 0.0, 1.0};
-          buf.insert(buf.end(), row, row + 9);
-        }
+        for (std::size_t i = 0; i < un; ++i)
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              buf.push_back(p.F[i](r, c));
       } else if (name == "stress") {
         for (std::size_t i = 0; i < un; ++i)
           append_tensor6(buf, p.stress[i]);

@@ -31,6 +31,13 @@ namespace talus::detail {
 inline std::string num(double v) {
   return fmt::format("{:.10g}", v);
 }
+/// [x, y] or [x, y, z]: the first `dimension` components.
+inline std::string vec(const Vec3& v, int dimension) {
+  std::string s = "[" + num(v.x()) + ", " + num(v.y());
+  if (dimension == 3)
+    s += ", " + num(v.z());
+  return s + "]";
+}
 inline std::string vec(const Vec2& v) {
   return "[" + num(v.x()) + ", " + num(v.y()) + "]";
 }
@@ -91,17 +98,30 @@ inline std::string describe(const YAML::Node& n) {
   return "nothing";
 }
 
+/// Whether a[d] < b[d] along every one of the first `dimension` axes.
+inline bool below_along_all(const Vec3& a, const Vec3& b, int dimension) {
+  for (int d = 0; d < dimension; ++d)
+    if (!(a[d] < b[d]))
+      return false;
+  return true;
+}
+
 /// Whether p lies in the grid's box (with a round-off margin), and the box for a message.
-inline bool inside_grid(const Vec2& p, const GridSpec& g) {
-  const Vec2 lo = g.origin, hi = g.origin + g.extent;
+inline bool inside_grid(const Vec3& p, const GridSpec& g) {
+  const Vec3 lo = g.origin, hi = g.origin + g.extent;
   const double tol = 1e-12 * (g.origin.cwiseAbs().maxCoeff() + g.extent.maxCoeff());
-  return p.x() >= lo.x() - tol && p.x() <= hi.x() + tol && p.y() >= lo.y() - tol &&
-         p.y() <= hi.y() + tol;
+  for (int d = 0; d < g.dimension; ++d)
+    if (!(p[d] >= lo[d] - tol && p[d] <= hi[d] + tol))
+      return false;
+  return true;
 }
 inline std::string grid_box(const GridSpec& g) {
-  const Vec2 lo = g.origin, hi = g.origin + g.extent;
-  return fmt::format("the grid covers x in [{}, {}], y in [{}, {}]", num(lo.x()), num(hi.x()),
-                     num(lo.y()), num(hi.y()));
+  const Vec3 lo = g.origin, hi = g.origin + g.extent;
+  std::string s = fmt::format("the grid covers x in [{}, {}], y in [{}, {}]", num(lo.x()),
+                              num(hi.x()), num(lo.y()), num(hi.y()));
+  if (g.dimension == 3)
+    s += fmt::format(", z in [{}, {}]", num(lo.z()), num(hi.z()));
+  return s;
 }
 
 /// A value in the case tree and where it came from.
@@ -281,13 +301,31 @@ public:
     return static_cast<Index>(v);
   }
 
-  Vec2 vec2(const Item& it) const {
+  /// "a 2-element list [x, y]" or "a 3-element list [x, y, z]": what a point of the case is.
+  std::string point_list() const {
+    return dimension_ == 3 ? "a 3-element list [x, y, z]" : "a 2-element list [x, y]";
+  }
+
+  /// A point or vector of the case: as many numbers as it has dimensions (z = 0 in 2D).
+  Vec3 point(const Item& it) const {
     const YAML::Node& n = it.node;
     if (!n.IsSequence())
+      fail(it, "expected " + point_list() + ", got " + describe(n));
+    if (n.size() != static_cast<std::size_t>(dimension_))
+      fail(it, fmt::format("expected {} (dimension: {}), got a list of {} element{}", point_list(),
+                           dimension_, n.size(), n.size() == 1 ? "" : "s"));
+    Vec3 v = Vec3::Zero();
+    for (std::size_t i = 0; i < n.size(); ++i)
+      v[static_cast<Eigen::Index>(i)] =
+          number(Item{n[i], mark_or(n[i], it.mark), child_path(it.path, i)});
+    return v;
+  }
+
+  /// A point of a plane figure (polygon vertices, a prism's section): [x, y].
+  Vec2 plane_point(const Item& it) const {
+    const YAML::Node& n = it.node;
+    if (!n.IsSequence() || n.size() != 2)
       fail(it, "expected a 2-element list [x, y], got " + describe(n));
-    if (n.size() != 2)
-      fail(it, "expected a 2-element list [x, y], got a list of " + std::to_string(n.size()) +
-                   " element" + (n.size() == 1 ? "" : "s"));
     Vec2 v;
     for (std::size_t i = 0; i < 2; ++i)
       v[static_cast<Eigen::Index>(i)] =
@@ -306,15 +344,16 @@ public:
     return !lower.empty() && end == lower.c_str() + lower.size();
   }
 
-  /// A 2-element list whose elements are numbers or expressions of the initial position
-  /// (quoted text such as "0.01 * sin(pi / 50 * x)"); expressions are parsed here so a typo is
-  /// reported with its location.
-  void position_field(const Item& it, Vec2& values, std::array<std::string, 2>& expressions) const {
+  /// A list of as many elements as the case has dimensions, each a number or an expression of
+  /// the initial position (quoted text such as "0.01 * sin(pi / 50 * x)"); expressions are
+  /// parsed here so a typo is reported with its location.
+  void position_field(const Item& it, Vec3& values, std::array<std::string, 3>& expressions) const {
     const YAML::Node& n = it.node;
-    if (!n.IsSequence() || n.size() != 2)
-      fail(it, "expected a 2-element list [x, y] of numbers or expressions in x and y, got " +
+    if (!n.IsSequence() || n.size() != static_cast<std::size_t>(dimension_))
+      fail(it, "expected " + point_list() + " of numbers or expressions of the position, got " +
                    describe(n));
-    for (std::size_t i = 0; i < 2; ++i) {
+    values.setZero();
+    for (std::size_t i = 0; i < n.size(); ++i) {
       const Item element{n[i], mark_or(n[i], it.mark), child_path(it.path, i)};
       const bool quoted =
           element.node.IsScalar() &&
@@ -327,7 +366,7 @@ public:
         continue;
       }
       try {
-        const PositionExpression check(element.node.Scalar());
+        const PositionExpression check(element.node.Scalar(), dimension_);
         (void)check;
       } catch (const std::invalid_argument& e) {
         fail(element, e.what());
@@ -437,6 +476,9 @@ private:
   std::string file_;
   std::vector<AppliedOverride> overrides_;
   std::string_view text_;
+  /// The case's dimension, known once the top level's `dimension` is read: the points read
+  /// after it have as many components.
+  mutable int dimension_ = 2;
 };
 
 /// The output defaults: the six fields, plus plastic_strain when the case has an

@@ -48,12 +48,12 @@ void PlasticMaterial::commit(std::span<const Index> ids) {
   }
 }
 
-void PlasticMaterial::update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+void PlasticMaterial::update_stress(std::span<const Index> ids, std::span<const Mat3> F,
                                     std::span<Mat3> stress) {
   reserve_points(F.size());
   parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
     const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-    const Mat3 F3 = embed_plane_strain(F[p]);
+    const Mat3& F3 = F[p];
     const double J = F3.determinant();
     if (!(J > 0.0))
       throw NumericalError(fmt::format("{} material '{}': det F = {:g} is not positive at point {}",
@@ -72,7 +72,7 @@ Vec3 PlasticMaterial::elastic_strain(std::size_t p) const {
                                                  : values;
 }
 
-double PlasticMaterial::stored_energy(std::span<const Index> ids, std::span<const Mat2>,
+double PlasticMaterial::stored_energy(std::span<const Index> ids, std::span<const Mat3>,
                                       std::span<const double> volume0) const {
   double sum = 0;
   for (const Index id : ids) {

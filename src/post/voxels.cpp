@@ -19,7 +19,7 @@ void update_voxels(const Particles<2>& particles, const Vec2& pattern_origin, do
   v.stripes_vertical.resize(static_cast<std::size_t>(n));
   parallel_for(n, [&](Index p) {
     const auto s = static_cast<std::size_t>(p);
-    const Mat2& F = particles.F[s];
+    const Mat2 F = particles.grid_F(s);
     const Vec2& half = particles.half_size0[s];
     for (std::size_t c = 0; c < 4; ++c)
       v.corners[s][c] = particles.x[s] + F * kCornerSigns[c].cwiseProduct(half);

@@ -15,8 +15,7 @@ namespace {
 // velocity (their support barely touches a particle); they are treated as empty.
 constexpr double kTinyNodeMassFraction = 1e-12;
 
-template <class Shape> class ExplicitSolverImpl final : public ExplicitSolver {
-  static constexpr int Dim = 2;
+template <int Dim, class Shape> class ExplicitSolverImpl final : public ExplicitSolver {
   using V = Vec<Dim>;
   using M = Mat<Dim>;
 
@@ -84,7 +83,7 @@ public:
 
   Energies energies() const override { return particle_energies(scene_, true); }
 
-  std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
+  FaceReactions reactions() const override { return reactions_; }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
 
   std::optional<StateViolation> grid_violation() const override {
@@ -135,7 +134,7 @@ private:
   // Internal force -sum V sigma grad(N) plus external point forces, gravity and tractions.
   void gather_forces() {
     const auto& P = scene_.particles;
-    const V g = scene_.spec.gravity;
+    const V g = head<Dim>(scene_.spec.gravity);
     const auto& nodes = active();
     parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
       const Index n = nodes[at(k)];
@@ -148,10 +147,10 @@ private:
       });
       force_[at(n)] = f;
     });
-    for (const SurfaceLoad& load : scene_.surface_loads)
-      for_each_surface_load_node(scene_.grid, P, load, map_.stencil(load.particle).start,
-                                 Shape::kWidth,
-                                 [&](Index n, double w) { force_[at(n)] += w * load.force; });
+    for (const SurfaceLoad<Dim>& load : scene_.surface_loads)
+      for_each_surface_load_node<Dim>(scene_.grid, P, load, map_.stencil(load.particle).start,
+                                      Shape::kWidth,
+                                      [&](Index n, double w) { force_[at(n)] += w * load.force; });
   }
 
   void constrain(Index n, V& vec) const {
@@ -179,7 +178,8 @@ private:
     for (const Index n : active()) {
       const auto s = at(n);
       for (int d = 0; d < Dim; ++d)
-        if (const int face = scene_.component_face[2 * s + static_cast<std::size_t>(d)]; face >= 0)
+        if (const int face = scene_.component_face[Dim * s + static_cast<std::size_t>(d)];
+            face >= 0)
           reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
       if (mass_[s] <= tiny_mass_) {
         acceleration_[s].setZero();
@@ -290,7 +290,7 @@ private:
       const M dF = apic_ ? M(M::Identity() + dt * L)
                          : M((M::Identity() - half).inverse() * (M::Identity() + half));
       const auto s = at(p);
-      P.F[s] = dF * P.F[s];
+      P.advance_F(s, dF);
       P.volume[s] = P.F[s].determinant() * P.volume0[s];
     });
     update_stress();
@@ -307,15 +307,23 @@ private:
   std::vector<double> mass_;
   std::vector<V> momentum_, force_, velocity_, acceleration_;
   std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
-  std::array<Vec2, kFaceCount> reactions_{};
+  FaceReactions reactions_{};
   double tiny_mass_ = 0;
   bool apic_ = false;
 };
 
+/// ExplicitSolverImpl of one dimension, as a template of the shape function alone.
+template <int Dim> struct ExplicitIn {
+  template <class Shape> using Solver = ExplicitSolverImpl<Dim, Shape>;
+};
+
 } // namespace
 
-std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<2>& scene) {
-  return make_for_shape<ExplicitSolver, ExplicitSolverImpl>(scene.spec.solver.shape, scene);
+template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene) {
+  return make_for_shape<ExplicitSolver, ExplicitIn<Dim>::template Solver>(scene.spec.solver.shape,
+                                                                          scene);
 }
+
+template std::unique_ptr<ExplicitSolver> make_explicit_solver<2>(Scene<2>&);
 
 } // namespace talus

@@ -126,8 +126,8 @@ public:
   }
 
   Energies energies() const override { return particle_energies(scene_, dynamic_); }
-  std::array<Vec2, kFaceCount> reactions() const override { return reactions_; }
-  std::vector<Vec2> prescribed_reactions() const override { return prescribed_reactions_; }
+  FaceReactions reactions() const override { return reactions_; }
+  std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
   std::string linear_solver() const override { return linear_->name(); }
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
   Index unknowns() const override { return dof_count_; }
@@ -294,7 +294,7 @@ private:
     }
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
-      const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
+      const Mat3 dF_inv = embedded<Dim>(trial_dF_[s]).inverse();
       // V0 tau dF^-T: the first Piola stress of the step, times the reference volume.
       const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
       const M G2 = G.topLeftCorner<Dim, Dim>();
@@ -379,7 +379,7 @@ private:
       heaviest = std::max(heaviest, m);
     }
     if (!scene_.spec.prescribed.empty())
-      locate_prescribed_nodes(scene_, ramp_committed_);
+      locate_prescribed_nodes<2>(scene_, ramp_committed_);
     node_dof_.assign(2 * nn, -1);
     prescribed_du_.assign(2 * nn, 0.0);
     dof_count_ = 0;
@@ -430,7 +430,7 @@ private:
     }
     external_.setZero(static_cast<Eigen::Index>(dof_count_));
     full_external_.assign(2 * nn, 0.0);
-    const V g = scene_.spec.gravity;
+    const V g = head<Dim>(scene_.spec.gravity);
     force_scale_ = 0;
     for (Index p = 0; p < P.size(); ++p) {
       const V f = lambda_end * P.external_force[at(p)] +
@@ -438,11 +438,12 @@ private:
       force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
       map_.for_each_node_of(p, [&](Index n, double w, const V&) { add_external(n, w * f); });
     }
-    for (const SurfaceLoad& load : scene_.surface_loads) {
+    for (const SurfaceLoad<Dim>& load : scene_.surface_loads) {
       const V f = (load.constant ? 1.0 : lambda_end) * load.force;
       force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
-      for_each_surface_load_node(scene_.grid, P, load, map_.stencil(load.particle).start,
-                                 Shape::kWidth, [&](Index n, double w) { add_external(n, w * f); });
+      for_each_surface_load_node<Dim>(scene_.grid, P, load, map_.stencil(load.particle).start,
+                                      Shape::kWidth,
+                                      [&](Index n, double w) { add_external(n, w * f); });
     }
     if (dynamic_) // inertia sets the force level too: m (|v| / dt + |a|)
       for (Index p = 0; p < P.size(); ++p)
@@ -512,7 +513,7 @@ private:
         dF += node_increment(map, n, du) * grad.transpose();
       });
       trial_dF_[at(p)] = dF;
-      trial_F_[at(p)] = embed_plane_strain(dF * P.F[at(p)]);
+      trial_F_[at(p)] = embedded<Dim>(dF) * P.F[at(p)];
     }
     if (f_bar_ && !apply_f_bar(share))
       return false; // a cell turned inside out: Newton backtracks, the stepper may cut back
@@ -546,8 +547,8 @@ private:
   //   dtau_aq/ddF_cd = sum_m dtau_aq/dF_cm Fn_dm.
   Eigen::Matrix<double, 4, 4> step_tangent(std::size_t s) const {
     const auto& P = scene_.particles;
-    const Mat3 dFinv = embed_plane_strain(trial_dF_[s]).inverse();
-    const Mat3 Fn = embed_plane_strain(P.F[s]);
+    const Mat3 dFinv = embedded<Dim>(trial_dF_[s]).inverse();
+    const Mat3& Fn = P.F[s];
     const StressTangent& st = response_[s];
     Eigen::Matrix<double, 4, 4> A = Eigen::Matrix<double, 4, 4>::Zero();
     for (int a = 0; a < 2; ++a)
@@ -599,7 +600,7 @@ private:
       const double j = trial_j_[at(p)], j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(p))];
       if (!(j > 0 && j_bar > 0))
         return false;
-      trial_F_[at(p)] = embed_plane_strain(std::sqrt(j_bar / j) * trial_dF_[at(p)] * P.F[at(p)]);
+      trial_F_[at(p)] = embedded<Dim>(M(std::sqrt(j_bar / j) * trial_dF_[at(p)])) * P.F[at(p)];
     }
     return true;
   }
@@ -619,8 +620,8 @@ private:
   Eigen::Matrix<double, 4, 4> f_bar_step_tangent(std::size_t s) {
     const auto& P = scene_.particles;
     const M& dF = trial_dF_[s];
-    const Mat3 dFinv = embed_plane_strain(dF).inverse();
-    const Mat3 Fn = embed_plane_strain(P.F[s]);
+    const Mat3 dFinv = embedded<Dim>(dF).inverse();
+    const Mat3& Fn = P.F[s];
     const StressTangent& st = response_[s];
     const double j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))];
     const double r = trial_j_[s] / j_bar, k = std::sqrt(j_bar / trial_j_[s]);
@@ -717,7 +718,7 @@ private:
     std::vector<double> internal(full_external_.size(), 0.0);
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
-      const Mat3 dF_inv = embed_plane_strain(trial_dF_[s]).inverse();
+      const Mat3 dF_inv = embedded<Dim>(trial_dF_[s]).inverse();
       const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
       const M G2 = G.topLeftCorner<Dim, Dim>();
       V dx = V::Zero();
@@ -729,7 +730,7 @@ private:
       });
       const Mat3& F = trial_F_[s];
       const double J = F.determinant();
-      P.F[s] = F.topLeftCorner<Dim, Dim>();
+      P.F[s] = F;
       P.stress[s] = response_[s].kirchhoff / J;
       P.volume[s] = J * P.volume0[s];
       P.x[s] += dx;
@@ -763,7 +764,7 @@ private:
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
     for_each_ghost_force(serial_map_, du,
                          [&](Index n, int a, double f) { internal[at(2 * n + a)] += f; });
-    prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec2::Zero());
+    prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
     for (const Index n : map_.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
       if (region < 0)
@@ -813,14 +814,14 @@ private:
   bool structure_recorded_ = false; ///< the assembler holds this step's structure
   SparseMatrix previous_pattern_;   ///< the last tangent whose pattern was analysed
   bool pattern_changed_ = true;
-  std::array<Vec2, kFaceCount> reactions_{};
+  FaceReactions reactions_{};
   double seconds_particle_update_ = 0;
   bool dynamic_ = false;
   bool gravity_ramped_ = true;        ///< gravity follows the load factor (no geostatic stress)
   std::vector<double> prescribed_du_; ///< per (node, component): this step's increment
   double ramp_committed_ = 0;         ///< prescribed-displacement fraction reached so far
   bool line_search_first_ = false;    ///< the last step converged with the line search
-  std::vector<Vec2> prescribed_reactions_;
+  std::vector<Vec3> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)

@@ -58,8 +58,7 @@ RunMetadata metadata_of(const Scene<2>& scene) {
 }
 
 bool face_constrained(const BoundarySpec& bc, int face) {
-  const FaceCondition c[kFaceCount] = {bc.x_min, bc.x_max, bc.y_min, bc.y_max};
-  return c[face] != FaceCondition::Free;
+  return bc[face] != FaceCondition::Free;
 }
 
 std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
@@ -68,7 +67,7 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
       "gravity_energy", "total_energy", "momentum_x", "momentum_y",     "particles"};
   if (!scene.spec.stages.empty())
     cols.push_back("stage"); // 1, 2, ... in the order of the case's stages
-  for (int f = 0; f < kFaceCount; ++f)
+  for (int f = 0; f < face_count(scene.spec.dimension); ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       cols.push_back(fmt::format("reaction_{}_x", face_name(f)));
       cols.push_back(fmt::format("reaction_{}_y", face_name(f)));
@@ -84,8 +83,8 @@ std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
 }
 
 std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
-                                   const std::array<Vec2, kFaceCount>& reactions,
-                                   const std::vector<Vec2>& prescribed, double time, Index step,
+                                   const FaceReactions& reactions,
+                                   const std::vector<Vec3>& prescribed, double time, Index step,
                                    double dt, std::size_t stage) {
   std::vector<double> row = {time,
                              static_cast<double>(step),
@@ -99,13 +98,13 @@ std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
                              static_cast<double>(scene.particles.size())};
   if (!scene.spec.stages.empty())
     row.push_back(static_cast<double>(stage + 1));
-  for (int f = 0; f < kFaceCount; ++f)
+  for (int f = 0; f < face_count(scene.spec.dimension); ++f)
     if (face_constrained(scene.spec.boundaries, f)) {
       row.push_back(reactions[static_cast<std::size_t>(f)].x());
       row.push_back(reactions[static_cast<std::size_t>(f)].y());
     }
   for (std::size_t r = 0; r < scene.spec.prescribed.size(); ++r) {
-    const Vec2 f = r < prescribed.size() ? prescribed[r] : Vec2::Zero();
+    const Vec3 f = r < prescribed.size() ? prescribed[r] : Vec3::Zero();
     row.push_back(f.x());
     row.push_back(f.y());
   }
@@ -179,8 +178,8 @@ struct Recorder {
   }
 
   /// The time-series row of the current state at the stage's time t.
-  void append_row(const Energies& e, const std::array<Vec2, kFaceCount>& reactions,
-                  const std::vector<Vec2>& prescribed, double t, Index step, double dt) {
+  void append_row(const Energies& e, const FaceReactions& reactions,
+                  const std::vector<Vec3>& prescribed, double t, Index step, double dt) {
     series.append(
         timeseries_row(scene, e, reactions, prescribed, stage_start_time + t, step, dt, stage));
   }
@@ -201,8 +200,8 @@ struct Recorder {
     return frame_interval > 0 ? std::min(end_time, next_frame_time) : end_time;
   }
   void after_step(Index step, double t, double dt, const Energies& e,
-                  const std::array<Vec2, kFaceCount>& reactions,
-                  const std::vector<Vec2>& prescribed, const std::string& extra) {
+                  const FaceReactions& reactions, const std::vector<Vec3>& prescribed,
+                  const std::string& extra) {
     append_row(e, reactions, prescribed, t, step, dt);
     const OutputSpec& out = scene.spec.output;
     frame_at_current_step = false;
@@ -524,7 +523,7 @@ void prepare_output_directory(const fs::path& dir, bool force) {
 RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   // Everything that can reject the input happens before the first byte is written.
-  Scene<2> scene = build_scene(spec);
+  Scene<2> scene = build_scene<2>(spec);
   RunResult result;
   result.out_dir = options.out_dir.empty() ? fs::path("results") / spec.name : options.out_dir;
   prepare_output_directory(result.out_dir, options.force);

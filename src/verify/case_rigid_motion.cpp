@@ -64,7 +64,7 @@ VerificationCase rigid_translation() {
     const Index last = results.frame_count() - 1;
     const auto x1 = results.read(last, "position", &rows, &cols);
     const double t = results.frame_time(last);
-    const Vec2 v = spec.bodies[0].velocity;
+    const Vec2 v = head<2>(spec.bodies[0].velocity);
     double drift = 0, largest = 0;
     for (std::size_t k = 0; k < x1.size(); ++k) {
       drift = std::max(drift, std::abs(x1[k] - x0[k] - v[static_cast<int>(k % 2)] * t));

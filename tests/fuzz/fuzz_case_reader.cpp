@@ -144,7 +144,7 @@ Outcome run_one(const std::string& text, const std::vector<std::string>& overrid
     // so that it tries many inputs.
     if (talus::estimate_memory(spec).total_bytes > kSmallScene)
       return Outcome::Large;
-    const talus::Scene<2> scene = talus::build_scene(spec);
+    const talus::Scene<2> scene = talus::build_scene<2>(spec);
     return Outcome::Built;
   } catch (const talus::InputError&) {
     return Outcome::Refused;

@@ -45,7 +45,7 @@ TEST(Refine, FinerPointsInTheBoxesAndTheSameArea) {
       kColumn, "column.yaml",
       {"bodies.column.refine={particles_per_cell: 3, boxes: [[0, 0, 0.2, 0.3], [0.3, 0.5, 0.4, "
        "0.6]]}"});
-  const Scene<2> scene = build_scene(spec);
+  const Scene<2> scene = build_scene<2>(spec);
   const auto& P = scene.particles;
   // 32 cells: 6 + 1 refined to 9 points each, 25 with one point.
   EXPECT_EQ(P.size(), 7 * 9 + 25);
@@ -116,7 +116,7 @@ TEST_F(AdaptRun, MarksTheYieldedCellsAndRunsAllThree) {
   EXPECT_NE(table.find("| fine |"), std::string::npos) << table;
   // The adapted case is the case file with the recorded overrides: it builds the same points.
   const Scene<2> again =
-      build_scene(read_case_file((root_ / "column.yaml").string(), report.overrides));
+      build_scene<2>(read_case_file((root_ / "column.yaml").string(), report.overrides));
   EXPECT_EQ(again.particles.size(), adapted);
 }
 

@@ -19,7 +19,7 @@ namespace {
 CaseSpec spinning_disc(UpdateScheme scheme) {
   CaseSpec spec;
   spec.name = "spin";
-  spec.grid.extent = Vec2(1, 1);
+  spec.grid.extent = Vec3(1, 1, 0);
   spec.grid.cell_size = 0.05;
   MaterialSpec m;
   m.name = "m";
@@ -33,7 +33,7 @@ CaseSpec spinning_disc(UpdateScheme scheme) {
   b.shape = BodyShape::Disc;
   b.material = "m";
   b.material_index = 0;
-  b.centre = Vec2(0.5, 0.5);
+  b.centre = Vec3(0.5, 0.5, 0);
   b.radius = 0.2;
   b.angular_velocity = 2.0 * std::numbers::pi; // one revolution per second
   spec.bodies = {b};
@@ -50,7 +50,7 @@ struct SpinResult {
 
 SpinResult spin(UpdateScheme scheme, double revolutions) {
   const CaseSpec spec = spinning_disc(scheme);
-  Scene<2> scene = build_scene(spec);
+  Scene<2> scene = build_scene<2>(spec);
   auto solver = make_explicit_solver(scene);
   const auto& m = spec.materials[0];
   const auto& b = spec.bodies[0];

@@ -129,6 +129,12 @@ void expect_vec(const Vec2& v, double x, double y) {
   EXPECT_DOUBLE_EQ(v.x(), x);
   EXPECT_DOUBLE_EQ(v.y(), y);
 }
+/// A 2D case's point: x, y and z = 0.
+void expect_vec(const Vec3& v, double x, double y) {
+  EXPECT_DOUBLE_EQ(v.x(), x);
+  EXPECT_DOUBLE_EQ(v.y(), y);
+  EXPECT_EQ(v.z(), 0.0);
+}
 
 // --- valid input -----------------------------------------------------------------------------
 
@@ -186,10 +192,10 @@ TEST(CaseReader, ParsesCompleteCase) {
   expect_vec(wedge.vertices[2], -0.25, 0.4);
 
   expect_vec(c.gravity, 0, -9.81);
-  EXPECT_EQ(c.boundaries.x_min, FaceCondition::Fixed);
-  EXPECT_EQ(c.boundaries.x_max, FaceCondition::Free);
-  EXPECT_EQ(c.boundaries.y_min, FaceCondition::Roller);
-  EXPECT_EQ(c.boundaries.y_max, FaceCondition::Free);
+  EXPECT_EQ(c.boundaries[kXMin], FaceCondition::Fixed);
+  EXPECT_EQ(c.boundaries[kXMax], FaceCondition::Free);
+  EXPECT_EQ(c.boundaries[kYMin], FaceCondition::Roller);
+  EXPECT_EQ(c.boundaries[kYMax], FaceCondition::Free);
 
   ASSERT_EQ(c.point_loads.size(), 2u);
   EXPECT_EQ(c.point_loads[0].name, "tip");
@@ -201,7 +207,7 @@ TEST(CaseReader, ParsesCompleteCase) {
   ASSERT_EQ(c.tractions.size(), 1u);
   EXPECT_EQ(c.tractions[0].body, "upper");
   EXPECT_EQ(c.tractions[0].body_index, 1);
-  EXPECT_EQ(c.tractions[0].side, Side::Top);
+  EXPECT_EQ(c.tractions[0].side, kYMax);
   expect_vec(c.tractions[0].traction, 0, -100);
 
   EXPECT_DOUBLE_EQ(c.time.end_time, 0.05);
@@ -259,8 +265,8 @@ TEST(CaseReader, AppliesDefaults) {
   expect_vec(c.bodies[0].velocity, 0, 0);
   EXPECT_DOUBLE_EQ(c.bodies[0].angular_velocity, 0);
   expect_vec(c.gravity, 0, 0);
-  EXPECT_EQ(c.boundaries.x_min, FaceCondition::Free);
-  EXPECT_EQ(c.boundaries.y_max, FaceCondition::Free);
+  EXPECT_EQ(c.boundaries[kXMin], FaceCondition::Free);
+  EXPECT_EQ(c.boundaries[kYMax], FaceCondition::Free);
   EXPECT_TRUE(c.point_loads.empty());
   EXPECT_TRUE(c.tractions.empty());
   EXPECT_TRUE(c.probes.empty());
@@ -427,7 +433,7 @@ TEST(CaseReaderErrors, WrongTypeNonIntegerForInteger) {
 TEST(CaseReaderErrors, WrongTypeVectorOfThreeElements) {
   expect_error(with(kCase, "extent: [1.5, 1]", "extent: [1.5, 1, 1]"),
                {"case.yaml", 6, 11, "grid.extent",
-                "expected a 2-element list [x, y], got a list of 3 elements"});
+                "expected a 2-element list [x, y] (dimension: 2), got a list of 3 elements"});
   expect_error(with(kCase, "gravity: [0, -9.81]", "gravity: -9.81"),
                {"case.yaml", 37, 10, "gravity", "expected a 2-element list [x, y], got '-9.81'"});
   expect_error(with(kCase, "centre: [0.2, 0.2]", "centre: [0.2, x]"),
@@ -492,7 +498,7 @@ TEST(CaseReaderErrors, NonPhysicalValues) {
        "the grid extent in x (1.51 m) is not a whole number of cells"},
       {"cell_size: 0.025", "cell_size: 0", 7, 14, "grid.cell_size", "must be > 0 (got 0)"},
       {"extent: [1.5, 1]", "extent: [1.5, 0]", 6, 11, "grid.extent",
-       "both components must be > 0 (got [1.5, 0])"},
+       "every component must be > 0 (got [1.5, 0])"},
       {"flip: 0.95", "flip: 1.5", 59, 9, "solver.flip", "must be in [0, 1] (got 1.5)"},
       {"particles_per_cell: 3", "particles_per_cell: 0", 31, 25, "bodies[1].particles_per_cell",
        "must be an integer from 1 to 16 (got 0)"},
@@ -698,11 +704,12 @@ TEST(CaseReaderOverrides, BadValueIsReportedAgainstTheOverride) {
                            "(from --set materials.disc.youngs_modulus=-1)");
   }
   // Same checks as the file: wrong type, inside a replaced list item, NaN.
-  expect_error(kCase,
-               {"--set", 0, 0, "grid.extent",
-                "expected a 2-element list [x, y], got a list of 3 elements (from --set "
-                "grid.extent=[1, 1, 1])"},
-               {"grid.extent=[1, 1, 1]"});
+  expect_error(
+      kCase,
+      {"--set", 0, 0, "grid.extent",
+       "expected a 2-element list [x, y] (dimension: 2), got a list of 3 elements (from --set "
+       "grid.extent=[1, 1, 1])"},
+      {"grid.extent=[1, 1, 1]"});
   expect_error(kCase,
                {"--set", 0, 0, "materials[1].density",
                 "must be > 0 (got -5) (from --set materials.rubber={name: rubber, model: "

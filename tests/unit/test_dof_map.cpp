@@ -78,7 +78,7 @@ double max_abs(const SparseMatrix& A) {
 /// A solver prepared for the full load step at a random increment of up to 1 % of a cell, so
 /// that every point is strained and the residual is far from zero.
 struct Prepared {
-  explicit Prepared(const std::string& text) : scene(build_scene(read_case_text(text, "test"))) {
+  explicit Prepared(const std::string& text) : scene(build_scene<2>(read_case_text(text, "test"))) {
     solver = make_implicit_solver(scene);
     solver->prepare(1.0, 1.0, 0.05);
     std::mt19937 rng(7);

@@ -392,7 +392,7 @@ TEST_F(Implicit, ImplicitDynamicPicRemovesGridInvisibleNoise) {
                               {"analysis=implicit_dynamic", "gravity=[0, 0]",
                                "bodies.block.velocity=[\"0.1 * sin(pi * x / 0.0625)\", 0]",
                                "time.end_time=0.01", "time.dt=0.01", "solver.flip=" + flip});
-    EXPECT_NEAR(rms_speed(talus::build_scene(spec).particles.v), 0.1, 1e-12);
+    EXPECT_NEAR(rms_speed(talus::build_scene<2>(spec).particles.v), 0.1, 1e-12);
     talus::RunOptions options;
     options.out_dir = root_ / ("noise" + flip);
     options.progress = false;

@@ -53,7 +53,7 @@ Measured measure(const std::string& text) {
   const double before = heap_in_use();
   double peak = 0;
   {
-    Scene<2> scene = build_scene(spec);
+    Scene<2> scene = build_scene<2>(spec);
     m.points = scene.particles.size();
     if (spec.analysis == AnalysisType::Explicit) {
       auto solver = make_explicit_solver(scene);
@@ -105,7 +105,7 @@ TEST(MemoryEstimate, CountsDoNotWrapAround) {
   const std::string text = case_text("explicit", 0.05, 2);
   const CaseSpec spec = read_case_text(text, "memory.yaml");
   CaseSpec huge = spec;
-  huge.grid.extent = Vec2(1e15, 1e15);
+  huge.grid.extent = Vec3(1e15, 1e15, 0);
   huge.grid.cell_size = 1.0;
   const MemoryEstimate e = estimate_memory(huge);
   EXPECT_DOUBLE_EQ(e.cells_x, 1e15);

@@ -20,7 +20,7 @@ time: {end_time: 1, cfl: 0.5}
 )";
 
 Scene<2> scene_with(const std::vector<std::string>& overrides) {
-  return build_scene(read_case_text(kBlock, "case.yaml", overrides));
+  return build_scene<2>(read_case_text(kBlock, "case.yaml", overrides));
 }
 
 TEST(Placement, DefaultIsTheRegularLattice) {

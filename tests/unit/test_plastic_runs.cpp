@@ -170,7 +170,7 @@ output: {every_steps: 1}
 // (non-consistent) tangent gives.
 TEST_F(PlasticRuns, MohrCoulombFootingNewtonConvergesQuadratically) {
   const talus::CaseSpec spec = talus::read_case_text(kSoilFooting, "case.yaml", {});
-  talus::Scene<2> scene = talus::build_scene(spec);
+  talus::Scene<2> scene = talus::build_scene<2>(spec);
   const auto solver = talus::make_implicit_solver(scene);
   // Non-associated flow: the automatic choice must be an LU backend, not Cholesky.
   EXPECT_EQ(solver->linear_solver(), "umfpack");

@@ -77,7 +77,7 @@ Step make_step(Kinematics kind, const Vec3& eps, double kappa, bool plane, int o
   const int a = (out_of_plane + 1) % 3, b = (out_of_plane + 2) % 3;
   const Vec2 in_plane(eps(a), eps(b));
   const Mat2 F2_old = rotation2(0.3) * Mat2{{1.1, 0.05}, {0.0, 0.95}};
-  s.F_old = embed_plane_strain(F2_old);
+  s.F_old = embedded<2>(F2_old);
   const Mat2 R2 = rotation2(0.5);
   if (kind == Kinematics::FiniteStrain) {
     const Mat2 b2 = R2 * Vec2(std::exp(2e-3), std::exp(-4e-3)).asDiagonal() * R2.transpose();
@@ -87,10 +87,10 @@ Step make_step(Kinematics kind, const Vec3& eps, double kappa, bool plane, int o
     const Mat2 Finv = F2_old.inverse();
     const Mat2 A = Finv * b2 * Finv.transpose();
     const Mat2 L = A.llt().matrixL();
-    s.F_new = embed_plane_strain(rotation2(-0.9) * in_plane.array().exp().matrix().asDiagonal() *
-                                 rotation2(0.6) * L.inverse());
+    s.F_new = embedded<2>(rotation2(-0.9) * in_plane.array().exp().matrix().asDiagonal() *
+                          rotation2(0.6) * L.inverse());
   } else {
-    s.F_old = embed_plane_strain(Mat2::Identity() + 0.02 * Mat2{{0.5, 1.0}, {0.2, -0.7}});
+    s.F_old = embedded<2>(Mat2::Identity() + 0.02 * Mat2{{0.5, 1.0}, {0.2, -0.7}});
     s.converged.elastic = Mat3::Zero();
     s.converged.elastic.topLeftCorner<2, 2>() =
         R2 * Vec2(1e-3, -2e-3).asDiagonal() * R2.transpose();
@@ -99,7 +99,7 @@ Step make_step(Kinematics kind, const Vec3& eps, double kappa, bool plane, int o
     const Mat2 W{{0.0, 0.03}, {-0.03, 0.0}};
     const Mat2 sym_old =
         0.5 * (s.F_old.topLeftCorner<2, 2>() + s.F_old.topLeftCorner<2, 2>().transpose());
-    s.F_new = embed_plane_strain(target - s.converged.elastic.topLeftCorner<2, 2>() + sym_old + W);
+    s.F_new = embedded<2>(target - s.converged.elastic.topLeftCorner<2, 2>() + sym_old + W);
   }
   return s;
 }
@@ -188,8 +188,8 @@ std::vector<Mat3> elastic_gradients() {
   uniaxial(0, 0) = 1.25;
   return {kR * Vec3(1.3, 0.8, 1.1).asDiagonal() * kQ,
           Mat3{{1.2, 0.3, -0.1}, {0.05, 0.9, 0.2}, {-0.15, 0.1, 1.05}},
-          embed_plane_strain(rotation2(0.4) * uniaxial),
-          embed_plane_strain(rotation2(0.7) * (1.2 * Mat2::Identity())),
+          embedded<2>(rotation2(0.4) * uniaxial),
+          embedded<2>(rotation2(0.7) * (1.2 * Mat2::Identity())),
           kR * Vec3(1.2, 1.2, 0.9).asDiagonal() * kQ,
           kR * Vec3(1.2, 1.2 * (1.0 + 1e-9), 0.9).asDiagonal() * kQ,
           Mat3::Identity(),

@@ -59,7 +59,9 @@ Particles<2> make_particles(Index n, int frame) {
     p.mass[k] = 2.5e-3 * (d + 1) / 9.0;
     p.volume0[k] = 1e-6 * (d + 2) / 11.0;
     p.volume[k] = p.volume0[k] * (1 + 1e-3 * d);
-    p.F[k] << 1 + 1e-3 * d, 2e-4 * (d + 1) / 3.0, -3e-4 * (d + 1) / 7.0, 1 - 1e-3 * d / 13.0;
+    Mat2 f;
+    f << 1 + 1e-3 * d, 2e-4 * (d + 1) / 3.0, -3e-4 * (d + 1) / 7.0, 1 - 1e-3 * d / 13.0;
+    p.F[k] = embedded<2>(f);
     Mat3 s;
     const double a = -1e5 * (d + 1) / 3.0;
     s << a, 1.1e4 + d / 17.0, 2.3e3 - d,                        //
@@ -80,8 +82,8 @@ RunMetadata make_metadata() {
   m.overrides = {"grid.cell_size=0.05", "time.end_time=1.5"};
   m.version = "0.1.0-test";
   m.dimension = 2;
-  m.grid_origin = Vec2(0, -0.5);
-  m.grid_extent = Vec2(2, 1.25);
+  m.grid_origin = Vec3(0, -0.5, 0);
+  m.grid_extent = Vec3(2, 1.25, 0);
   m.cell_size = 0.05;
   m.material_names = {"sand", "clay"};
   m.body_names = {"column", "floor", "block"};
@@ -108,8 +110,9 @@ void expect_frame_matches(const ResultsReader& r, Index frame, const Particles<2
     const auto k = static_cast<std::size_t>(i);
     x.insert(x.end(), {p.x[k][0], p.x[k][1]});
     v.insert(v.end(), {p.v[k][0], p.v[k][1]});
-    const Mat2& f = p.F[k];
-    F.insert(F.end(), {f(0, 0), f(0, 1), 0.0, f(1, 0), f(1, 1), 0.0, 0.0, 0.0, 1.0});
+    const Mat3& f = p.F[k];
+    F.insert(F.end(),
+             {f(0, 0), f(0, 1), f(0, 2), f(1, 0), f(1, 1), f(1, 2), f(2, 0), f(2, 1), f(2, 2)});
     const Mat3& t = p.stress[k];
     s.insert(s.end(), {t(0, 0), t(0, 1), t(0, 2), t(1, 1), t(1, 2), t(2, 2)});
   }

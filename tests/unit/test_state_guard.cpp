@@ -6,6 +6,7 @@
 
 #include <limits>
 
+using talus::embedded;
 using talus::Index;
 using talus::Mat2;
 using talus::Mat3;
@@ -25,7 +26,7 @@ Particles<2> healthy() {
     P.x0[s] = Vec2(0.1 * static_cast<double>(s), 0.5);
     P.x[s] = P.x0[s];
     P.v[s] = Vec2(1.0, -2.0);
-    P.F[s] << 1.2, 0.1, 0.0, 1.0;
+    P.F[s] = embedded<2>((Mat2() << 1.2, 0.1, 0.0, 1.0).finished());
     P.stress[s] = 3.0 * Mat3::Identity();
   }
   return P;
@@ -47,9 +48,14 @@ TEST(StateGuard, EveryParticleFieldIsGuarded) {
       {"velocity", [](Particles<2>& P, std::size_t s) { P.v[s].y() = kNaN; }, kNaN},
       {"position", [](Particles<2>& P, std::size_t s) { P.x[s].x() = kInf; }, kInf},
       {"F", [](Particles<2>& P, std::size_t s) { P.F[s](1, 0) = -kInf; }, -kInf},
-      {"det F", [](Particles<2>& P, std::size_t s) { P.F[s] << 0.5, 0.0, 0.0, -0.2; }, -0.1},
-      {"det F", [](Particles<2>& P, std::size_t s) { P.F[s].setZero(); }, 0.0},
-      {"det F", [](Particles<2>& P, std::size_t s) { P.F[s] << 0.01, 0.0, 0.0, 0.005; }, 5e-5},
+      {"det F",
+       [](Particles<2>& P, std::size_t s) { P.F[s] = embedded<2>(Vec2(0.5, -0.2).asDiagonal()); },
+       -0.1},
+      {"det F", [](Particles<2>& P, std::size_t s) { P.F[s].topLeftCorner<2, 2>().setZero(); },
+       0.0},
+      {"det F",
+       [](Particles<2>& P, std::size_t s) { P.F[s] = embedded<2>(Vec2(0.01, 0.005).asDiagonal()); },
+       5e-5},
       {"stress", [](Particles<2>& P, std::size_t s) { P.stress[s](2, 2) = kNaN; }, kNaN},
   };
   for (const auto& c : cases) {

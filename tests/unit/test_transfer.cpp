@@ -124,7 +124,7 @@ namespace {
 CaseSpec two_disc_spec(ShapeFunction shape, UpdateScheme scheme) {
   CaseSpec spec;
   spec.name = "threads";
-  spec.grid.extent = Vec2(1, 1);
+  spec.grid.extent = Vec3(1, 1, 0);
   spec.grid.cell_size = 0.025; // ~1600 points, ~500 active nodes: both loops run threaded
   MaterialSpec m;
   m.name = "m";
@@ -139,9 +139,9 @@ CaseSpec two_disc_spec(ShapeFunction shape, UpdateScheme scheme) {
     b.shape = BodyShape::Disc;
     b.material = "m";
     b.material_index = 0;
-    b.centre = i ? Vec2(0.7, 0.7) : Vec2(0.3, 0.3);
+    b.centre = i ? Vec3(0.7, 0.7, 0) : Vec3(0.3, 0.3, 0);
     b.radius = 0.2;
-    b.velocity = i ? Vec2(-1, -1) : Vec2(1, 1);
+    b.velocity = i ? Vec3(-1, -1, 0) : Vec3(1, 1, 0);
     b.angular_velocity = i ? 20.0 : -20.0; // spin: FLIP's edge error makes stress and forces
     spec.bodies.push_back(b);
   }
@@ -154,7 +154,7 @@ CaseSpec two_disc_spec(ShapeFunction shape, UpdateScheme scheme) {
 
 Particles<2> run_steps(const CaseSpec& spec, int threads, int steps) {
   omp_set_num_threads(threads);
-  Scene<2> scene = build_scene(spec);
+  Scene<2> scene = build_scene<2>(spec);
   auto solver = make_explicit_solver(scene);
   for (int s = 0; s < steps; ++s)
     solver->step(solver->stable_dt(0.5));

@@ -30,7 +30,7 @@ Particles<2> one_point(const Vec2& x, const Vec2& half, const Mat2& F) {
   p.x[0] = x;
   p.x0[0] = x;
   p.half_size0[0] = half;
-  p.F[0] = F;
+  p.F[0] = embedded<2>(F);
   return p;
 }
 

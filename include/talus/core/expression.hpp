@@ -1,6 +1,8 @@
 #pragma once
 // A scalar expression of the initial position, e.g. "0.01 * sin(pi / 50 * x)", for fields a
 // case sets per point (initial velocity). Parsed once by muparser, evaluated per point.
+#include "talus/core/types.hpp"
+
 #include <memory>
 #include <string>
 
@@ -9,13 +11,15 @@ namespace talus {
 class PositionExpression {
 public:
   /// Throws std::invalid_argument with the parser's message if `text` is not a valid
-  /// expression in the variables x and y (constants: pi, e; functions: sin, cos, exp, ...).
-  explicit PositionExpression(const std::string& text);
+  /// expression in the variables x and y, and z in 3D (constants: pi, e; functions: sin, cos,
+  /// exp, ...).
+  PositionExpression(const std::string& text, int dimension);
   ~PositionExpression();
   PositionExpression(PositionExpression&&) noexcept;
   PositionExpression& operator=(PositionExpression&&) noexcept;
 
-  double operator()(double x, double y) const;
+  /// The value at x (z unused in 2D).
+  double operator()(const Vec3& x) const;
 
 private:
   struct Impl;

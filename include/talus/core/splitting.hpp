@@ -30,29 +30,31 @@ namespace talus {
 
 enum class SplitMode : std::uint8_t { None, Stretch, Compression, Shear };
 
-/// Which criterion F^split meets (stretch before compression before shear), or None.
-SplitMode split_mode(const Mat2& F_split, const SplitSpec& spec);
+/// Which criterion F^split (the block of the grid's axes) meets, stretch before compression
+/// before shear, or None: any diagonal term above alpha or below beta, any off-diagonal one
+/// beyond gamma in magnitude.
+template <int Dim> SplitMode split_mode(const Mat<Dim>& F_split, const SplitSpec& spec);
 
-/// The reference axis (0: x, 1: y) whose deformed voxel edge |F e_d| h_d is the longer (x on a
-/// tie): the axis a split cuts in half.
-int split_axis(const Mat2& F, const Vec2& half_size0);
+/// The reference axis (0: x, 1: y, 2: z) whose deformed voxel edge |F e_d| h_d is the longest
+/// (the first on a tie): the axis a split cuts in half.
+template <int Dim> int split_axis(const Mat<Dim>& F, const Vec<Dim>& half_size0);
 
 /// Whether any body of the case splits its points.
 bool splitting_requested(const CaseSpec& spec);
 
 /// Allocates the particles' splitting block (F0^-1 = I, generation 0) when a body splits;
 /// otherwise leaves it empty, and split_material_points() then does nothing.
-void enable_splitting(Scene<2>& scene);
+template <int Dim> void enable_splitting(Scene<Dim>& scene);
 
 /// Splits point p along reference axis `axis`: p becomes the child on the negative side, the
 /// child on the positive side is appended. Particles only: the caller updates the materials'
 /// history, the batches and the loads (split_material_points does all of it).
-Index split_point(Particles<2>& particles, Index p, int axis);
+template <int Dim> Index split_point(Particles<Dim>& particles, Index p, int axis);
 
 /// Splits every point whose body has a split block and whose F^split meets the criterion;
 /// children are checked at the next call. Updates the materials' history, the material
 /// batches, the tractions (a loaded face stays on the child that holds it) and returns the
 /// number of splits. Solvers must be told (particles_changed) when it is non-zero.
-Index split_material_points(Scene<2>& scene);
+template <int Dim> Index split_material_points(Scene<Dim>& scene);
 
 } // namespace talus

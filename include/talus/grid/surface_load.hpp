@@ -15,40 +15,48 @@
 
 namespace talus {
 
-struct SurfaceLoad {
+template <int Dim> struct SurfaceLoad {
   Index particle = 0;
-  Vec2 offset{0, 0}; ///< reference offset from the point's centre to the loaded face midpoint
-  Vec2 force{0, 0};  ///< N per unit thickness
+  /// reference offset from the point's centre to the loaded face midpoint
+  Vec<Dim> offset = Vec<Dim>::Zero();
+  Vec<Dim> force = Vec<Dim>::Zero(); ///< N (per unit thickness in 2D)
   /// Implicit analyses: applied in full from the first step instead of following the load
   /// factor (TractionSpec::constant).
   bool constant = false;
 };
 
 /// Calls add(node, weight) for the grid nodes that share the load's force, with weights that
-/// sum to one. `stencil_first` and `stencil_width` bound the nodes the point reaches
-/// (ParticleGridMap::stencil(p).start and Shape::kWidth).
-template <class Add>
-void for_each_surface_load_node(const Grid<2>& grid, const Particles<2>& particles,
-                                const SurfaceLoad& load, const std::array<Index, 2>& stencil_first,
-                                int stencil_width, Add&& add) {
+/// sum to one: the multilinear hats of the cell that holds the face midpoint. `stencil_first`
+/// and `stencil_width` bound the nodes the point reaches (ParticleGridMap::stencil(p).start and
+/// Shape::kWidth).
+template <int Dim, class Add>
+void for_each_surface_load_node(const Grid<Dim>& grid, const Particles<Dim>& particles,
+                                const SurfaceLoad<Dim>& load,
+                                const std::array<Index, Dim>& stencil_first, int stencil_width,
+                                Add&& add) {
   const auto s = static_cast<std::size_t>(load.particle);
-  const Vec2 x = particles.x[s] + particles.F[s] * load.offset - grid.origin();
+  const Vec<Dim> x = particles.x[s] + particles.grid_F(s) * load.offset - grid.origin();
   const double h = grid.cell_size();
-  std::array<Index, 2> cell{};
-  std::array<double, 2> xi{};
-  for (int d = 0; d < 2; ++d) {
+  std::array<Index, Dim> cell{};
+  std::array<double, Dim> xi{};
+  for (int d = 0; d < Dim; ++d) {
     const double lo = static_cast<double>(stencil_first[d]);
     const double hi = lo + static_cast<double>(stencil_width - 1);
     const double u = std::clamp(x[d] / h, lo, hi);
     cell[d] = std::min(static_cast<Index>(std::floor(u)), static_cast<Index>(hi) - 1);
     xi[d] = u - static_cast<double>(cell[d]);
   }
-  for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) {
-      const double w = (i ? xi[0] : 1.0 - xi[0]) * (j ? xi[1] : 1.0 - xi[1]);
-      if (w > 0.0)
-        add(grid.node_id({cell[0] + i, cell[1] + j}), w);
+  for (int corner = 0; corner < (1 << Dim); ++corner) {
+    double w = 1.0;
+    std::array<Index, Dim> node = cell;
+    for (int d = 0; d < Dim; ++d) {
+      const bool upper = (corner >> d) & 1;
+      w *= upper ? xi[d] : 1.0 - xi[d];
+      node[d] += upper ? 1 : 0;
     }
+    if (w > 0.0)
+      add(grid.node_id(node), w);
+  }
 }
 
 } // namespace talus

@@ -44,14 +44,35 @@ struct ResidualStrengthSpec {
   double friction_angle = 0; ///< degrees
   double plastic_strain = 0; ///< kappa at which the residual strength is reached, > 0
 };
-enum class BodyShape { Rectangle, Disc, Polygon };
+/// rectangle (2D) / box (3D): min, max; disc / sphere: centre, radius; polygon (2D) / prism
+/// (3D: the polygon in x-y extruded from z_min to z_max); cylinder (3D): axis ends, radius.
+enum class BodyShape { Rectangle, Disc, Polygon, Cylinder };
 enum class FaceCondition { Free, Fixed, Roller };
-enum class Side { Left, Right, Bottom, Top };
 
+/// The faces of the grid (and of a box body, for tractions), in the order of the axes: face
+/// 2 d is the lower one along axis d, 2 d + 1 the upper one. A 2D case has the first four.
+enum Face : int { kXMin = 0, kXMax = 1, kYMin = 2, kYMax = 3, kZMin = 4, kZMax = 5 };
+inline constexpr int kMaxFaces = 6;
+constexpr int face_count(int dimension) {
+  return 2 * dimension;
+}
+constexpr int face_axis(int face) {
+  return face / 2;
+}
+constexpr bool face_is_upper(int face) {
+  return face % 2 == 1;
+}
+/// "x_min", ..., "z_max".
+const char* face_name(int face);
+
+// Points and vectors of a case have three components; a 2D case leaves z at 0 (the reader
+// refuses a third component there), so one CaseSpec serves every dimension and the solvers
+// take the first Dim components.
 struct GridSpec {
-  Vec2 origin{0.0, 0.0}; ///< m, lower-left corner
-  Vec2 extent{1.0, 1.0}; ///< m, size in x and y (required)
-  double cell_size = 0;  ///< m, square cells (required); extent must be a whole number of cells
+  int dimension = 2;          ///< the case's (CaseSpec::dimension)
+  Vec3 origin{0.0, 0.0, 0.0}; ///< m, lower corner
+  Vec3 extent{1.0, 1.0, 0.0}; ///< m, size along each axis (required)
+  double cell_size = 0; ///< m, square (cubic) cells (required); extent a whole number of cells
   SourceLocation where;
 };
 
@@ -90,26 +111,29 @@ struct BodySpec {
   std::string material;    ///< name of a MaterialSpec (required)
   int material_index = -1; ///< resolved by the reader
   // rectangle
-  Vec2 min{0, 0}, max{0, 0}; ///< m
+  Vec3 min{0, 0, 0}, max{0, 0, 0}; ///< m
   // disc
-  Vec2 centre{0, 0}; ///< m
-  double radius = 0; ///< m, > 0
-  // polygon (counter-clockwise or clockwise, simple)
-  std::vector<Vec2> vertices; ///< m, at least 3
-  int particles_per_cell = 2; ///< per direction, >= 1 (default 2)
-  Vec2 velocity{0, 0};        ///< m/s, initial translational velocity (default 0)
+  Vec3 centre{0, 0, 0}; ///< m
+  double radius = 0;    ///< m, > 0
+  // polygon (counter-clockwise or clockwise, simple); prism: the section, and its z range
+  std::vector<Vec2> vertices;  ///< m, at least 3
+  double z_min = 0, z_max = 0; ///< m, prism only (0 in 2D)
+  // cylinder
+  Vec3 axis_start{0, 0, 0}, axis_end{0, 0, 0}; ///< m, the ends of the axis
+  int particles_per_cell = 2;                  ///< per direction, >= 1 (default 2)
+  Vec3 velocity{0, 0, 0};                      ///< m/s, initial translational velocity (default 0)
   /// Per component: an expression of the initial position (x, y) that replaces velocity[d],
   /// e.g. "0.01 * sin(pi / 50 * x)"; empty when the component is a number.
-  std::array<std::string, 2> velocity_expression;
-  std::array<SourceLocation, 2> velocity_where; ///< of each velocity component's value
+  std::array<std::string, 3> velocity_expression;
+  std::array<SourceLocation, 3> velocity_where; ///< of each velocity component's value
   /// Initial stress (plastic models only; docs/case-format.md, bodies.initial_stress).
   struct InitialStress {
     enum class Kind { Geostatic, Uniform } kind = Kind::Geostatic;
     /// geostatic: sigma_yy = -rho |g| (surface - y), sigma_xx = sigma_zz = k0 sigma_yy
     double surface = 0;       ///< m, y of the free surface (default: the body's top)
     std::optional<double> k0; ///< default nu / (1 - nu)
-    /// uniform: sigma_xx, sigma_yy, sigma_xy, sigma_zz, Pa
-    std::array<double, 4> stress{};
+    /// uniform: the Cauchy stress, Pa (2D files give sigma_xx, sigma_yy, sigma_xy, sigma_zz)
+    Mat3 stress = Mat3::Zero();
     /// The value the stress follows from (uniform: stress; geostatic: k0, or the section), for
     /// a stress the material refuses (outside its yield surface).
     SourceLocation where;
@@ -121,38 +145,43 @@ struct BodySpec {
   /// the whole lattice and a random, seeded displacement of each point, both in units of the
   /// lattice spacing h / particles_per_cell.
   struct Placement {
-    Vec2 offset{0, 0}; ///< each component in (-0.5, 0.5)
-    double jitter = 0; ///< [0, 0.5): each point moves by up to jitter x spacing per axis
-    unsigned seed = 1; ///< of the jitter's random sequence (same seed, same points)
+    Vec3 offset{0, 0, 0}; ///< each component in (-0.5, 0.5)
+    double jitter = 0;    ///< [0, 0.5): each point moves by up to jitter x spacing per axis
+    unsigned seed = 1;    ///< of the jitter's random sequence (same seed, same points)
   };
   Placement placement;
   /// Local refinement (written by `talus adapt`): the grid cells whose centre lies in one of
   /// `boxes` get `particles_per_cell` points per direction instead of the body's.
   struct Refine {
+    struct Box {
+      Vec3 min{0, 0, 0}, max{0, 0, 0}; ///< m (2D files: [x_min, y_min, x_max, y_max])
+    };
     int particles_per_cell = 4;
-    std::vector<std::array<double, 4>> boxes; ///< m, [x_min, y_min, x_max, y_max]
+    std::vector<Box> boxes;
   };
   std::optional<Refine> refine;
   SourceLocation where;
 };
 
+/// The condition on each grid face, indexed by Face (default free).
 struct BoundarySpec {
-  FaceCondition x_min = FaceCondition::Free, x_max = FaceCondition::Free;
-  FaceCondition y_min = FaceCondition::Free, y_max = FaceCondition::Free;
+  std::array<FaceCondition, kMaxFaces> face{};
+  FaceCondition operator[](int f) const { return face[static_cast<std::size_t>(f)]; }
+  FaceCondition& operator[](int f) { return face[static_cast<std::size_t>(f)]; }
 };
 
 struct PointLoadSpec {
-  std::string name; ///< optional label (default "load<i>")
-  Vec2 point{0, 0}; ///< m, applied to the particle nearest to this point at t = 0
-  Vec2 force{0, 0}; ///< N per unit thickness
+  std::string name;    ///< optional label (default "load<i>")
+  Vec3 point{0, 0, 0}; ///< m, applied to the particle nearest to this point at t = 0
+  Vec3 force{0, 0, 0}; ///< N (per unit thickness in 2D)
   SourceLocation where;
 };
 
 struct TractionSpec {
   std::string body; ///< rectangle body name
   int body_index = -1;
-  Side side = Side::Top;
-  Vec2 traction{0, 0}; ///< Pa (N/m^2 on the side, per unit thickness)
+  int side = kYMax;       ///< the body's face (Face)
+  Vec3 traction{0, 0, 0}; ///< Pa (N/m^2 on the side)
   /// Implicit analyses: applied in full from the first step instead of following the load
   /// factor (e.g. the confining pressure that balances an initial stress).
   bool constant = false;
@@ -164,8 +193,8 @@ struct TractionSpec {
 /// out (null) stays free. The support force they need is reported as a reaction.
 struct PrescribedSpec {
   std::string name;                                  ///< required, unique; names the reaction
-  Vec2 min{0, 0}, max{0, 0};                         ///< m, the box (inclusive) of grid nodes
-  std::array<std::optional<double>, 2> displacement; ///< m, at end_time
+  Vec3 min{0, 0, 0}, max{0, 0, 0};                   ///< m, the box (inclusive) of grid nodes
+  std::array<std::optional<double>, 3> displacement; ///< m, at end_time
   SourceLocation where;
 };
 
@@ -209,7 +238,7 @@ struct OutputSpec {
 struct ProbeSpec {
   std::string name;              ///< required, unique; used in timeseries.csv column names
   std::optional<Index> particle; ///< particle index, or
-  std::optional<Vec2> point;     ///< m, nearest particle at t = 0
+  std::optional<Vec3> point;     ///< m, nearest particle at t = 0
   SourceLocation where;
   SourceLocation particle_where; ///< of the particle index
 };
@@ -285,11 +314,11 @@ struct CaseSpec {
   std::string source_text;            ///< verbatim case file text (embedded in run.h5)
   std::vector<std::string> overrides; ///< the --set strings applied, in order
   AnalysisType analysis = AnalysisType::Explicit;
-  int dimension = 2; ///< only 2 (plane strain) for now
+  int dimension = 2; ///< 2 (plane strain) or 3
   GridSpec grid;
   std::vector<MaterialSpec> materials;
   std::vector<BodySpec> bodies;
-  Vec2 gravity{0, 0}; ///< m/s^2 (default 0)
+  Vec3 gravity{0, 0, 0}; ///< m/s^2 (default 0)
   BoundarySpec boundaries;
   std::vector<PointLoadSpec> point_loads;
   std::vector<TractionSpec> tractions;

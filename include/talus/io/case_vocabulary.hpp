@@ -16,8 +16,10 @@ const Choices<MaterialModel>& material_model_choices();   ///< materials[i].mode
 const Choices<ShapeFunction>& shape_function_choices();   ///< solver.shape
 const Choices<UpdateScheme>& update_scheme_choices();     ///< solver.scheme (explicit)
 const Choices<TransferScheme>& transfer_scheme_choices(); ///< solver.transfer
-const Choices<BodyShape>& body_shape_choices();           ///< bodies[i].shape
-const Choices<OutputField>& output_field_choices();       ///< output.fields
+/// bodies[i].shape of a 2D case (rectangle, disc, polygon) or a 3D one (box, sphere, cylinder,
+/// prism).
+const Choices<BodyShape>& body_shape_choices(int dimension);
+const Choices<OutputField>& output_field_choices(); ///< output.fields
 
 /// The words of a table, in its order.
 template <class E> std::vector<std::string> choice_names(const Choices<E>& choices) {

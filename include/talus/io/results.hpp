@@ -23,8 +23,8 @@ struct RunMetadata {
   std::vector<std::string> overrides;
   std::string version;
   int dimension = 2;
-  Vec2 grid_origin{0, 0};
-  Vec2 grid_extent{0, 0};
+  Vec3 grid_origin{0, 0, 0}; ///< the first `dimension` components are written
+  Vec3 grid_extent{0, 0, 0};
   double cell_size = 0;
   std::vector<std::string> material_names;
   std::vector<std::string> body_names;

@@ -1,7 +1,7 @@
 #pragma once
 // Constitutive models. A model is evaluated for a whole batch of particles per call (one
 // virtual call per material per step, never per particle). Kinematics enter as the full 3x3
-// deformation gradient: plane strain embeds the in-plane block with F33 = 1.
+// deformation gradient the particles carry (plane strain: the in-plane block with F33 = 1).
 #include "talus/core/parallel.hpp"
 #include "talus/core/types.hpp"
 #include "talus/io/case_spec.hpp"
@@ -23,12 +23,6 @@ struct LameParameters {
   double young_modulus() const { return mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu); }
 };
 
-inline Mat3 embed_plane_strain(const Mat2& F2) {
-  Mat3 F = Mat3::Identity();
-  F.topLeftCorner<2, 2>() = F2;
-  return F;
-}
-
 class Material {
 public:
   Material(std::string name, double density, LameParameters lame)
@@ -43,11 +37,11 @@ public:
 
   /// Cauchy stress for every particle in `ids` from its deformation gradient: the explicit
   /// solver's material update. A model with history accepts the new state at once.
-  virtual void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+  virtual void update_stress(std::span<const Index> ids, std::span<const Mat3> F,
                              std::span<Mat3> stress) = 0;
   /// The stored (elastic strain) energy of a batch of points at the deformation gradients F
   /// (for a model with history: of its converged elastic strain).
-  virtual double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
+  virtual double stored_energy(std::span<const Index> ids, std::span<const Mat3> F,
                                std::span<const double> volume0) const = 0;
   /// Kirchhoff stress and consistent tangent dtau/dF at the trial deformation gradients
   /// F[ids[k]] (full 3x3), written to out[ids[k]]: the implicit solver's material update. A
@@ -85,21 +79,21 @@ private:
 template <class Law> class ElasticMaterial : public Material {
 public:
   using Material::Material;
-  void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+  void update_stress(std::span<const Index> ids, std::span<const Mat3> F,
                      std::span<Mat3> stress_out) final {
     const auto& law = static_cast<const Law&>(*this);
     parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-      stress_out[p] = law.stress(embed_plane_strain(F[p]));
+      stress_out[p] = law.stress(F[p]);
     });
   }
-  double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
+  double stored_energy(std::span<const Index> ids, std::span<const Mat3> F,
                        std::span<const double> volume0) const final {
     const auto& law = static_cast<const Law&>(*this);
     double sum = 0;
     for (const Index p : ids) {
       const auto s = static_cast<std::size_t>(p);
-      sum += volume0[s] * law.Law::energy_density(embed_plane_strain(F[s]));
+      sum += volume0[s] * law.Law::energy_density(F[s]);
     }
     return sum;
   }

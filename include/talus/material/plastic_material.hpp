@@ -21,9 +21,9 @@ public:
                   std::unique_ptr<PlasticModel> model, Kinematics kinematics,
                   bool symmetric_tangent);
 
-  void update_stress(std::span<const Index> ids, std::span<const Mat2> F,
+  void update_stress(std::span<const Index> ids, std::span<const Mat3> F,
                      std::span<Mat3> stress) override;
-  double stored_energy(std::span<const Index> ids, std::span<const Mat2> F,
+  double stored_energy(std::span<const Index> ids, std::span<const Mat3> F,
                        std::span<const double> volume0) const override;
   void response(std::span<const Index> ids, std::span<const Mat3> F,
                 std::span<StressTangent> out) override;

@@ -4,15 +4,16 @@
 
 namespace talus {
 
+/// Energies in J (per unit thickness in 2D), momentum in kg m/s (z = 0 in 2D).
 struct Energies {
-  double kinetic = 0;  ///< J per unit thickness
-  double strain = 0;   ///< J per unit thickness
-  double gravity = 0;  ///< potential -sum m g.x, J per unit thickness
-  Vec2 momentum{0, 0}; ///< kg m/s per unit thickness
+  double kinetic = 0;
+  double strain = 0;
+  double gravity = 0; ///< potential -sum m g.x
+  Vec3 momentum{0, 0, 0};
 };
 
 /// Sums over the points; stored energy one batch per material. `with_motion` adds kinetic
 /// energy and momentum (off for quasi-static runs, whose velocities are pseudo-time rates).
-Energies particle_energies(const Scene<2>& scene, bool with_motion);
+template <int Dim> Energies particle_energies(const Scene<Dim>& scene, bool with_motion);
 
 } // namespace talus

@@ -25,7 +25,7 @@ public:
   virtual double stable_dt(double cfl) const = 0;
   virtual Energies energies() const = 0;
   /// Reaction force on each grid face from the last step (sum over constrained nodes), N.
-  virtual std::array<Vec2, kFaceCount> reactions() const = 0;
+  virtual FaceReactions reactions() const = 0;
   virtual Index active_nodes() const = 0;
   /// The state guard's look at the grid of the last step: the first active node whose
   /// velocity or acceleration is not finite.
@@ -36,6 +36,6 @@ public:
 };
 
 /// Picks the shape-function instantiation once, for the whole run.
-std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<2>& scene);
+template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene);
 
 } // namespace talus

@@ -42,9 +42,9 @@ public:
   virtual NewtonReport step(double lambda_end, double ramp_end, double dt) = 0;
   virtual Energies energies() const = 0;
   /// Support reactions per grid face at the last converged step, N (per unit thickness).
-  virtual std::array<Vec2, kFaceCount> reactions() const = 0;
+  virtual FaceReactions reactions() const = 0;
   /// The force each prescribed region needs (same order as the case's `prescribed`), N.
-  virtual std::vector<Vec2> prescribed_reactions() const = 0;
+  virtual std::vector<Vec3> prescribed_reactions() const = 0;
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
   virtual double seconds_particle_update() const = 0;
