@@ -50,10 +50,10 @@ void BM_ExplicitStep(benchmark::State& state) {
 void BM_RecoveryAndVoxels(benchmark::State& state) {
   const Scene<2> scene = discs(static_cast<int>(state.range(0)));
   // As in a run: one recovery object and one voxel set, reused frame after frame.
-  StressRecovery recovery(scene.grid, scene.spec.solver.shape);
-  Voxels voxels;
+  StressRecovery<2> recovery(scene.grid, scene.spec.solver.shape);
+  Voxels<2> voxels;
   for (auto _ : state) {
-    const RecoveredStress& r = recovery.recover(scene.particles);
+    const RecoveredStress<2>& r = recovery.recover(scene.particles);
     update_voxels(scene.particles, scene.grid.origin(), scene.grid.cell_size(), voxels);
     benchmark::DoNotOptimize(r.smoothed_stress.data());
     benchmark::DoNotOptimize(voxels.corners.data());
@@ -64,9 +64,9 @@ void BM_RecoveryAndVoxels(benchmark::State& state) {
 void BM_FrameWrite(benchmark::State& state) {
   const Scene<2> scene = discs(static_cast<int>(state.range(0)));
   const bool post = state.range(1) != 0;
-  StressRecovery recovery(scene.grid, scene.spec.solver.shape);
-  const RecoveredStress& r = recovery.recover(scene.particles);
-  Voxels v;
+  StressRecovery<2> recovery(scene.grid, scene.spec.solver.shape);
+  const RecoveredStress<2>& r = recovery.recover(scene.particles);
+  Voxels<2> v;
   update_voxels(scene.particles, scene.grid.origin(), scene.grid.cell_size(), v);
   const auto dir =
       std::filesystem::temp_directory_path() / fmt::format("talus_bench_frames_{}", ::getpid());
@@ -78,7 +78,7 @@ void BM_FrameWrite(benchmark::State& state) {
     Index step = 0;
     for (auto _ : state)
       writer.write_frame(step++, 0.0, scene.particles, scene.spec.output.fields,
-                         post ? FramePost{&r, &v} : FramePost{});
+                         post ? FramePost<2>{&r, &v} : FramePost<2>{});
   }
   std::filesystem::remove_all(dir);
 }

@@ -452,6 +452,8 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
 }
 
 template Scene<2> build_scene<2>(const CaseSpec&);
+template Scene<3> build_scene<3>(const CaseSpec&);
 template void locate_prescribed_nodes<2>(Scene<2>&, double);
+template void locate_prescribed_nodes<3>(Scene<3>&, double);
 
 } // namespace talus

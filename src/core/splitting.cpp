@@ -136,7 +136,10 @@ template SplitMode split_mode<3>(const Mat3&, const SplitSpec&);
 template int split_axis<2>(const Mat2&, const Vec2&);
 template int split_axis<3>(const Mat3&, const Vec3&);
 template void enable_splitting<2>(Scene<2>&);
+template void enable_splitting<3>(Scene<3>&);
 template Index split_point<2>(Particles<2>&, Index, int);
+template Index split_point<3>(Particles<3>&, Index, int);
 template Index split_material_points<2>(Scene<2>&);
+template Index split_material_points<3>(Scene<3>&);
 
 } // namespace talus

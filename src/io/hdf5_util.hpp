@@ -232,18 +232,16 @@ struct DatasetInfo {
   const char* xdmf_type;   ///< XDMF AttributeType ("" for the geometry)
 };
 
-inline constexpr DatasetInfo kPosition{"position", 2, false, "m", "particle position (x, y)", ""};
-inline constexpr DatasetInfo kVelocity{"velocity", 2, false, "m/s", "particle velocity (vx, vy)",
-                                       "Vector"};
+// Vectors have as many columns as the run has dimensions (frame_datasets sets them; the
+// constants hold the 2D count).
+inline constexpr DatasetInfo kPosition{
+    "position", 2, false, "m", "particle position (x, y; z in 3D)", ""};
+inline constexpr DatasetInfo kVelocity{
+    "velocity", 2, false, "m/s", "particle velocity (vx, vy; vz in 3D)", "Vector"};
 inline constexpr DatasetInfo kMass{
-    "mass", 0, false, "kg", "particle mass per unit thickness (1 m slice, plane strain)", "Scalar"};
+    "mass", 0, false, "kg", "particle mass (2D: per unit thickness, a 1 m slice)", "Scalar"};
 inline constexpr DatasetInfo kVolume{
-    "volume",
-    0,
-    false,
-    "m^3",
-    "current particle volume per unit thickness (1 m slice, plane strain)",
-    "Scalar"};
+    "volume", 0, false, "m^3", "current particle volume (2D: per unit thickness)", "Scalar"};
 inline constexpr DatasetInfo kF{"F",
                                 9,
                                 false,
@@ -303,8 +301,9 @@ inline constexpr DatasetInfo kVoxelCorners{
     2,
     false,
     "m",
-    "deformed voxel corners x_p + F_p (X_c - X_p): rows 4p .. 4p+3 for particle p, "
-    "counter-clockwise from the initial (-, -) corner",
+    "deformed voxel corners x_p + F_p (X_c - X_p): 2D rows 4p .. 4p+3 for particle p, "
+    "counter-clockwise from the initial (-, -) corner; 3D rows 8p .. 8p+7, that square at z- "
+    "then at z+ (VTK hexahedron order)",
     ""};
 inline constexpr DatasetInfo kChecker{
     "checker", 0, true, "1", "checkerboard pattern (0/1) of the initial lattice", "Scalar"};
@@ -319,18 +318,25 @@ inline constexpr DatasetInfo kStripesVertical{
 inline constexpr const char* kGridGroup = "grid";
 inline constexpr const char* kVoxelsGroup = "voxels";
 
+/// A vector dataset with one column per dimension.
+inline DatasetInfo in_dimension(DatasetInfo info, int dimension) {
+  info.columns = dimension;
+  return info;
+}
+
 /// Datasets of a frame in the order they are written, given the requested output fields
 /// (duplicates ignored; position is always first).
-inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& fields) {
+inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& fields,
+                                               int dimension) {
   auto has = [&](OutputField f) {
     for (OutputField g : fields)
       if (g == f)
         return true;
     return false;
   };
-  std::vector<DatasetInfo> out{kPosition};
+  std::vector<DatasetInfo> out{in_dimension(kPosition, dimension)};
   if (has(OutputField::Velocity))
-    out.push_back(kVelocity);
+    out.push_back(in_dimension(kVelocity, dimension));
   if (has(OutputField::Mass))
     out.push_back(kMass);
   if (has(OutputField::Volume))
@@ -346,7 +352,7 @@ inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& f
   if (has(OutputField::PlasticStrain))
     out.push_back(kPlasticStrain);
   if (has(OutputField::ReferencePosition))
-    out.push_back(kReferencePosition);
+    out.push_back(in_dimension(kReferencePosition, dimension));
   return out;
 }
 

@@ -111,51 +111,65 @@ void append_tensor6(std::vector<double>& buf, const Mat3& s) {
 }
 
 /// The grid/ group: node mass and stress on the physical nodes (ghost layers left out), shaped
-/// like the lattice (z of one node, y, x: x fastest), the shape VTK's XDMF readers expect of a
-/// structured mesh's data, with the lattice as attributes.
-void write_grid_group(hid_t frame, const std::string& frame_name, const RecoveredStress& r,
+/// like the lattice (z, y, x: x fastest; one node of z in 2D), the shape VTK's XDMF readers
+/// expect of a structured mesh's data, with the lattice as attributes.
+template <int Dim>
+void write_grid_group(hid_t frame, const std::string& frame_name, const RecoveredStress<Dim>& r,
                       const std::filesystem::path& file) {
   const std::string name = frame_name + "/" + h5::kGridGroup;
   const Site s{file, name};
   Handle g = h5::group_handle(
       H5Gcreate2(frame, h5::kGridGroup, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
-  const Grid<2>& grid = r.grid;
-  const Index nx = grid.cells(0) + 1, ny = grid.cells(1) + 1;
+  const Grid<Dim>& grid = r.grid;
+  std::array<Index, 3> nodes{1, 1, 1};
+  for (int d = 0; d < Dim; ++d)
+    nodes[static_cast<std::size_t>(d)] = grid.cells(d) + 1;
   const double h = grid.cell_size();
-  h5::write_double_attribute(g.get(), "origin", grid.origin().data(), 2, false, s);
+  h5::write_double_attribute(g.get(), "origin", grid.origin().data(), Dim, false, s);
   h5::write_double_attribute(g.get(), "spacing", &h, 1, true, s);
-  h5::write_int64_attribute(g.get(), "nodes_x", nx, s);
-  h5::write_int64_attribute(g.get(), "nodes_y", ny, s);
+  h5::write_int64_attribute(g.get(), "nodes_x", nodes[0], s);
+  h5::write_int64_attribute(g.get(), "nodes_y", nodes[1], s);
+  if (Dim == 3)
+    h5::write_int64_attribute(g.get(), "nodes_z", nodes[2], s);
+  const auto count = static_cast<std::size_t>(nodes[0] * nodes[1] * nodes[2]);
   std::vector<double> mass, stress;
-  mass.reserve(static_cast<std::size_t>(nx * ny));
-  stress.reserve(static_cast<std::size_t>(6 * nx * ny));
-  for (Index j = 0; j < ny; ++j)
-    for (Index i = 0; i < nx; ++i) {
-      const auto node = static_cast<std::size_t>(grid.node_id({i, j}));
-      mass.push_back(r.node_mass[node]);
-      stress.insert(stress.end(), r.node_stress[node].data(), r.node_stress[node].data() + 6);
-    }
-  const auto hx = static_cast<hsize_t>(nx), hy = static_cast<hsize_t>(ny);
-  write_array(g.get(), name, h5::kGridMass, {1, hy, hx}, mass, file);
-  write_array(g.get(), name, h5::kGridStress, {1, hy, hx, 6}, stress, file);
+  mass.reserve(count);
+  stress.reserve(6 * count);
+  for (Index k = 0; k < nodes[2]; ++k)
+    for (Index j = 0; j < nodes[1]; ++j)
+      for (Index i = 0; i < nodes[0]; ++i) {
+        std::array<Index, Dim> ijk{};
+        ijk[0] = i;
+        ijk[1] = j;
+        if constexpr (Dim == 3)
+          ijk[2] = k;
+        const auto node = static_cast<std::size_t>(grid.node_id(ijk));
+        mass.push_back(r.node_mass[node]);
+        stress.insert(stress.end(), r.node_stress[node].data(), r.node_stress[node].data() + 6);
+      }
+  const auto hx = static_cast<hsize_t>(nodes[0]), hy = static_cast<hsize_t>(nodes[1]),
+             hz = static_cast<hsize_t>(nodes[2]);
+  write_array(g.get(), name, h5::kGridMass, {hz, hy, hx}, mass, file);
+  write_array(g.get(), name, h5::kGridStress, {hz, hy, hx, 6}, stress, file);
 }
 
-/// The voxels/ group: 4 corners per particle and the pattern colours.
-void write_voxels_group(hid_t frame, const std::string& frame_name, const Voxels& v,
+/// The voxels/ group: 4 (2D) or 8 (3D) corners per particle and the pattern colours.
+template <int Dim>
+void write_voxels_group(hid_t frame, const std::string& frame_name, const Voxels<Dim>& v,
                         const std::filesystem::path& file) {
   const std::string name = frame_name + "/" + h5::kVoxelsGroup;
   const Site s{file, name};
   Handle g = h5::group_handle(
       H5Gcreate2(frame, h5::kVoxelsGroup, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
+  constexpr int kCorners = Voxels<Dim>::kCorners;
   std::vector<double> corners;
-  corners.reserve(8 * v.corners.size());
-  for (const auto& quad : v.corners)
-    for (const Vec2& c : quad) {
-      corners.push_back(c.x());
-      corners.push_back(c.y());
-    }
+  corners.reserve(static_cast<std::size_t>(kCorners * Dim) * v.corners.size());
+  for (const auto& voxel : v.corners)
+    for (const Vec<Dim>& c : voxel)
+      corners.insert(corners.end(), c.data(), c.data() + Dim);
   const auto n = static_cast<hsize_t>(v.corners.size());
-  write_dataset(g.get(), name, h5::kVoxelCorners, 4 * n, corners, file);
+  write_dataset(g.get(), name, h5::in_dimension(h5::kVoxelCorners, Dim), kCorners * n, corners,
+                file);
   write_dataset(g.get(), name, h5::kChecker, n, v.checker, file);
   write_dataset(g.get(), name, h5::kStripesHorizontal, n, v.stripes_horizontal, file);
   write_dataset(g.get(), name, h5::kStripesVertical, n, v.stripes_vertical, file);
@@ -246,11 +260,15 @@ ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
   h5::check_status(file.close(), "H5Fclose", "", f);
 }
 
-void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
-                                const std::vector<OutputField>& fields, const FramePost& post) {
+template <int Dim>
+void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p,
+                                const std::vector<OutputField>& fields,
+                                const FramePost<Dim>& post) {
+  if (Dim != metadata_.dimension)
+    throw std::invalid_argument("ResultsWriter::write_frame: particles of another dimension");
   h5::quiet();
   const Index n = p.size();
-  const auto datasets = h5::frame_datasets(fields);
+  const auto datasets = h5::frame_datasets(fields, Dim);
   for (const auto& d : datasets) {
     const std::string name = d.name;
     if (name == "velocity")
@@ -315,10 +333,8 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
       buf.reserve(un * static_cast<std::size_t>(std::max(d.columns, 1)));
       if (name == "position" || name == "velocity" || name == "reference_position") {
         const auto& src = name == "position" ? p.x : name == "velocity" ? p.v : p.x0;
-        for (std::size_t i = 0; i < un; ++i) {
-          buf.push_back(src[i][0]);
-          buf.push_back(src[i][1]);
-        }
+        for (std::size_t i = 0; i < un; ++i)
+          buf.insert(buf.end(), src[i].data(), src[i].data() + Dim);
       } else if (name == "mass" || name == "volume") {
         const auto& src = name == "mass" ? p.mass : p.volume;
         buf.assign(src.begin(), src.end());
@@ -341,19 +357,26 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<2>& p,
       for (const SymmetricStress& s : post.stress->smoothed_stress) // already Tensor6 order
         buf.insert(buf.end(), s.data(), s.data() + 6);
       write_dataset(g.get(), gname, h5::kStressSmoothed, hn, buf, f);
-      write_grid_group(g.get(), gname, *post.stress, f);
-      grid_nodes_ = {post.stress->grid.cells(0) + 1, post.stress->grid.cells(1) + 1};
+      write_grid_group<Dim>(g.get(), gname, *post.stress, f);
+      for (int d = 0; d < Dim; ++d)
+        grid_nodes_[static_cast<std::size_t>(d)] = post.stress->grid.cells(d) + 1;
     }
     if (post.voxels)
-      write_voxels_group(g.get(), gname, *post.voxels, f);
+      write_voxels_group<Dim>(g.get(), gname, *post.voxels, f);
   }
-  // Voxels use 0 .. 4N-1 as their quadrilateral connectivity (run.xmf).
-  ensure_vertex_ids(file.get(), static_cast<hsize_t>(post.voxels ? 4 * n : n), f);
+  // Voxels use 0 .. 4N-1 (8N-1 in 3D) as their quadrilateral (hexahedron) connectivity.
+  ensure_vertex_ids(file.get(), static_cast<hsize_t>(post.voxels ? Voxels<Dim>::kCorners * n : n),
+                    f);
   h5::check_status(file.close(), "H5Fclose", gname, f);
 
   frame_info_.push_back({step, time, n, fields, post.stress != nullptr, post.voxels != nullptr});
   ++frames_;
   write_xdmf();
 }
+
+template void ResultsWriter::write_frame<2>(Index, double, const Particles<2>&,
+                                            const std::vector<OutputField>&, const FramePost<2>&);
+template void ResultsWriter::write_frame<3>(Index, double, const Particles<3>&,
+                                            const std::vector<OutputField>&, const FramePost<3>&);
 
 } // namespace talus

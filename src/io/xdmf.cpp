@@ -84,10 +84,13 @@ void ResultsWriter::write_xdmf() const {
   // run.h5 is referenced by its bare name: XDMF readers resolve it relative to run.xmf, so the
   // results folder can be moved or copied as a whole.
   const std::string h5 = h5_path_.filename().string();
-  Index ids_length = 0; // the length of /xdmf/vertex_ids
+  const int dims = metadata_.dimension;
+  const char* geometry = dims == 3 ? "XYZ" : "XY";
+  const Index corners = Index{1} << dims; // per voxel
+  Index ids_length = 0;                   // the length of /xdmf/vertex_ids
   bool any_voxels = false, any_grid = false;
   for (const auto& fr : frame_info_) {
-    ids_length = std::max(ids_length, fr.voxels ? 4 * fr.particles : fr.particles);
+    ids_length = std::max(ids_length, fr.voxels ? corners * fr.particles : fr.particles);
     any_voxels = any_voxels || fr.voxels;
     any_grid = any_grid || fr.recovered;
   }
@@ -115,10 +118,10 @@ void ResultsWriter::write_xdmf() const {
                      n);
     x += vertex_ids(std::to_string(n), n, ids_length, h5);
     x += "        </Topology>\n";
-    x += "        <Geometry GeometryType=\"XY\">\n";
-    x += "          " + data_item(h5, g + "/position", n, 2, false) + "\n";
+    x += fmt::format("        <Geometry GeometryType=\"{}\">\n", geometry);
+    x += "          " + data_item(h5, g + "/position", n, dims, false) + "\n";
     x += "        </Geometry>\n";
-    for (const auto& d : h5::frame_datasets(fr.fields)) {
+    for (const auto& d : h5::frame_datasets(fr.fields, dims)) {
       if (*d.xdmf_type == '\0')
         continue; // position is the geometry
       x += attribute(d.name, d.xdmf_type, "Node",
@@ -132,7 +135,7 @@ void ResultsWriter::write_xdmf() const {
   x += "    </Grid>\n";
 
   if (any_voxels) {
-    // Each voxel is a quadrilateral cell; the particle datasets are its cell data.
+    // Each voxel is a quadrilateral (hexahedron) cell; the particle datasets are its cell data.
     x += fmt::format("    <Grid Name=\"{}_voxels\" GridType=\"Collection\" "
                      "CollectionType=\"Temporal\">\n",
                      case_name);
@@ -144,14 +147,14 @@ void ResultsWriter::write_xdmf() const {
       const std::string v = g + "/" + h5::kVoxelsGroup;
       const Index n = fr.particles;
       x += frame_header(k, fr.time, fr.step);
-      x += fmt::format(
-          "        <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"{}\">\n", n);
-      x += vertex_ids(fmt::format("{} 4", n), 4 * n, ids_length, h5);
+      x += fmt::format("        <Topology TopologyType=\"{}\" NumberOfElements=\"{}\">\n",
+                       dims == 3 ? "Hexahedron" : "Quadrilateral", n);
+      x += vertex_ids(fmt::format("{} {}", n, corners), corners * n, ids_length, h5);
       x += "        </Topology>\n";
-      x += "        <Geometry GeometryType=\"XY\">\n";
-      x += "          " + data_item(h5, v + "/corners", 4 * n, 2, false) + "\n";
+      x += fmt::format("        <Geometry GeometryType=\"{}\">\n", geometry);
+      x += "          " + data_item(h5, v + "/corners", corners * n, dims, false) + "\n";
       x += "        </Geometry>\n";
-      for (const auto& d : h5::frame_datasets(fr.fields)) {
+      for (const auto& d : h5::frame_datasets(fr.fields, dims)) {
         if (*d.xdmf_type == '\0')
           continue;
         x += attribute(d.name, d.xdmf_type, "Cell",
@@ -168,10 +171,11 @@ void ResultsWriter::write_xdmf() const {
   }
 
   if (any_grid) {
-    // The physical grid nodes as a structured mesh. A 3DCoRectMesh one node thick: both VTK
-    // XDMF readers map a 2DCoRectMesh onto the wrong axes. XDMF lists dimensions, origin and
-    // spacing slowest first (z, y, x).
-    const Index nx = grid_nodes_[0], ny = grid_nodes_[1];
+    // The physical grid nodes as a structured mesh. In 2D a 3DCoRectMesh one node thick: both
+    // VTK XDMF readers map a 2DCoRectMesh onto the wrong axes. XDMF lists dimensions, origin
+    // and spacing slowest first (z, y, x).
+    const Index nx = grid_nodes_[0], ny = grid_nodes_[1], nz = grid_nodes_[2];
+    const double oz = dims == 3 ? metadata_.grid_origin.z() : 0.0;
     const double h = metadata_.cell_size;
     x += fmt::format("    <Grid Name=\"{}_grid\" GridType=\"Collection\" "
                      "CollectionType=\"Temporal\">\n",
@@ -182,22 +186,23 @@ void ResultsWriter::write_xdmf() const {
         continue;
       const std::string gg = h5::frame_group_name(static_cast<long long>(k)) + "/" + h5::kGridGroup;
       x += frame_header(k, fr.time, fr.step);
-      x += fmt::format("        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"1 {} {}\"/>\n",
-                       ny, nx);
+      x +=
+          fmt::format("        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n",
+                      nz, ny, nx);
       x += "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
       x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
-                       "Format=\"XML\">0 {:.17g} {:.17g}</DataItem>\n",
-                       metadata_.grid_origin.y(), metadata_.grid_origin.x());
+                       "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
+                       oz, metadata_.grid_origin.y(), metadata_.grid_origin.x());
       x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
                        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
                        h, h, h);
       x += "        </Geometry>\n";
       for (const auto& d : {h5::kGridMass, h5::kGridStress})
         x += attribute(d.name, d.xdmf_type, "Node",
-                       fmt::format("<DataItem Dimensions=\"1 {} {}{}\" NumberType=\"Float\" "
+                       fmt::format("<DataItem Dimensions=\"{} {} {}{}\" NumberType=\"Float\" "
                                    "Precision=\"8\" Format=\"HDF\">{}:{}/{}</DataItem>",
-                                   ny, nx, d.columns ? fmt::format(" {}", d.columns) : "", h5, gg,
-                                   d.name));
+                                   nz, ny, nx, d.columns ? fmt::format(" {}", d.columns) : "", h5,
+                                   gg, d.name));
       x += "      </Grid>\n";
     }
     x += "    </Grid>\n";

@@ -25,62 +25,69 @@ SymmetricStress components(const Mat3& s) {
 }
 
 /// The tensor-product weights of one particle: its first node and the 1D values per direction.
-template <class Shape> struct Weights {
-  Index first_node = 0;
-  std::array<std::array<double, Shape::kWidth>, 2> N{};
+template <int Dim, class Shape> struct Weights {
+  static constexpr int W = Shape::kWidth;
+  std::array<Index, Dim> start{};
+  std::array<std::array<double, W>, Dim> N{};
 
   Weights() = default;
-  Weights(const Grid<2>& grid, const Particles<2>& particles, Index p) {
+  Weights(const Grid<Dim>& grid, const Particles<Dim>& particles, Index p) {
     const auto s = static_cast<std::size_t>(p);
-    const Vec2& x = particles.x[s];
+    const Vec<Dim>& x = particles.x[s];
     if (!grid.inside(x))
       throw NumericalError(fmt::format("stress recovery: particle {} is outside the grid at "
                                        "({:g}, {:g})",
                                        p, x[0], x[1]));
-    std::array<Index, 2> start{};
-    std::array<double, Shape::kWidth> dN{};
-    for (std::size_t d = 0; d < 2; ++d) {
-      const double xr =
-          x[static_cast<Eigen::Index>(d)] - grid.origin()[static_cast<Eigen::Index>(d)];
-      const double lp = particles.half_size0[s][static_cast<Eigen::Index>(d)];
+    std::array<double, W> dN{};
+    for (int d = 0; d < Dim; ++d) {
+      const double xr = x[d] - grid.origin()[d];
+      const double lp = particles.half_size0[s][d];
       start[d] = Shape::start(xr, grid.cell_size(), lp);
       Shape::eval(xr, grid.cell_size(), lp, start[d], N[d].data(), dN.data());
     }
-    first_node = grid.node_id(start);
   }
 
-  /// f(node_id, weight) for the Shape::kWidth^2 nodes of the stencil (node ids run x fastest).
-  template <class F> void for_each_node(Index row_stride, F&& f) const {
-    for (int b = 0; b < Shape::kWidth; ++b) {
-      const Index row = first_node + b * row_stride;
-      for (int a = 0; a < Shape::kWidth; ++a)
-        f(row + a, N[0][static_cast<std::size_t>(a)] * N[1][static_cast<std::size_t>(b)]);
+  /// f(node_id, weight) for the W^Dim nodes of the stencil, x fastest.
+  template <class F> void for_each_node(const Grid<Dim>& grid, F&& f) const {
+    std::array<int, Dim> k{};
+    while (true) {
+      std::array<Index, Dim> node{};
+      double w = 1.0;
+      for (int d = 0; d < Dim; ++d) {
+        node[d] = start[d] + k[d];
+        w *= N[d][static_cast<std::size_t>(k[d])];
+      }
+      f(grid.node_id(node), w);
+      int d = 0;
+      while (d < Dim && ++k[d] == W)
+        k[d++] = 0;
+      if (d == Dim)
+        return;
     }
   }
 };
 
 } // namespace
 
-class StressRecovery::Impl {
+template <int Dim> class StressRecovery<Dim>::Impl {
 public:
   virtual ~Impl() = default;
-  virtual const RecoveredStress& recover(const Particles<2>& particles) = 0;
+  virtual const RecoveredStress<Dim>& recover(const Particles<Dim>& particles) = 0;
 };
 
 namespace {
 
-template <class Shape> class RecoveryFor final : public StressRecovery::Impl {
+template <int Dim, class Shape> class RecoveryFor final : public StressRecovery<Dim>::Impl {
 public:
-  explicit RecoveryFor(const Grid<2>& grid) {
+  explicit RecoveryFor(const Grid<Dim>& grid) {
     out_.grid = grid;
     const auto nodes = static_cast<std::size_t>(grid.node_count());
     out_.node_mass.resize(nodes);
     out_.node_stress.resize(nodes);
   }
 
-  const RecoveredStress& recover(const Particles<2>& particles) override {
-    const Grid<2>& grid = out_.grid;
-    const Index stride = grid.nodes(0);
+  const RecoveredStress<Dim>& recover(const Particles<Dim>& particles) override {
+    const Grid<Dim>& grid = out_.grid;
     const auto n = static_cast<std::size_t>(particles.size());
     weights_.resize(n);
     out_.smoothed_stress.resize(n);
@@ -88,10 +95,10 @@ public:
     // Sums of Phi_ip m_p sigma_p first, divided by m_i below.
     std::fill(out_.node_stress.begin(), out_.node_stress.end(), SymmetricStress::Zero());
     for (std::size_t s = 0; s < n; ++s) {
-      weights_[s] = Weights<Shape>(grid, particles, static_cast<Index>(s));
+      weights_[s] = Weights<Dim, Shape>(grid, particles, static_cast<Index>(s));
       const double m = particles.mass[s];
       const SymmetricStress weighted = m * components(particles.stress[s]);
-      weights_[s].for_each_node(stride, [&](Index node, double w) {
+      weights_[s].for_each_node(grid, [&](Index node, double w) {
         out_.node_mass[static_cast<std::size_t>(node)] += w * m;
         out_.node_stress[static_cast<std::size_t>(node)] += w * weighted;
       });
@@ -103,7 +110,7 @@ public:
     parallel_for(particles.size(), [&](Index p) {
       const auto s = static_cast<std::size_t>(p);
       SymmetricStress smoothed = SymmetricStress::Zero();
-      weights_[s].for_each_node(stride, [&](Index node, double w) {
+      weights_[s].for_each_node(grid, [&](Index node, double w) {
         smoothed += w * out_.node_stress[static_cast<std::size_t>(node)];
       });
       out_.smoothed_stress[s] = smoothed;
@@ -112,20 +119,30 @@ public:
   }
 
 private:
-  RecoveredStress out_;
-  std::vector<Weights<Shape>> weights_;
+  RecoveredStress<Dim> out_;
+  std::vector<Weights<Dim, Shape>> weights_;
+};
+
+template <int Dim> struct RecoveryIn {
+  template <class Shape> using For = RecoveryFor<Dim, Shape>;
 };
 
 } // namespace
 
-StressRecovery::StressRecovery(const Grid<2>& grid, ShapeFunction shape)
-    : impl_(make_for_shape<Impl, RecoveryFor>(shape, grid)) {}
-StressRecovery::~StressRecovery() = default;
-StressRecovery::StressRecovery(StressRecovery&&) noexcept = default;
-StressRecovery& StressRecovery::operator=(StressRecovery&&) noexcept = default;
+template <int Dim>
+StressRecovery<Dim>::StressRecovery(const Grid<Dim>& grid, ShapeFunction shape)
+    : impl_(make_for_shape<Impl, RecoveryIn<Dim>::template For>(shape, grid)) {}
+template <int Dim> StressRecovery<Dim>::~StressRecovery() = default;
+template <int Dim> StressRecovery<Dim>::StressRecovery(StressRecovery&&) noexcept = default;
+template <int Dim>
+StressRecovery<Dim>& StressRecovery<Dim>::operator=(StressRecovery&&) noexcept = default;
 
-const RecoveredStress& StressRecovery::recover(const Particles<2>& particles) {
+template <int Dim>
+const RecoveredStress<Dim>& StressRecovery<Dim>::recover(const Particles<Dim>& particles) {
   return impl_->recover(particles);
 }
+
+template class StressRecovery<2>;
+template class StressRecovery<3>;
 
 } // namespace talus

@@ -21,5 +21,6 @@ template <int Dim> Energies particle_energies(const Scene<Dim>& scene, bool with
 }
 
 template Energies particle_energies<2>(const Scene<2>&, bool);
+template Energies particle_energies<3>(const Scene<3>&, bool);
 
 } // namespace talus

@@ -87,9 +87,9 @@ public:
   Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
 
   std::optional<StateViolation> grid_violation() const override {
-    if (auto v = find_node_violation(scene_.grid, active(), velocity_, "grid velocity"))
+    if (auto v = find_node_violation<Dim>(scene_.grid, active(), velocity_, "grid velocity"))
       return v;
-    return find_node_violation(scene_.grid, active(), acceleration_, "grid acceleration");
+    return find_node_violation<Dim>(scene_.grid, active(), acceleration_, "grid acceleration");
   }
 
   // The map and the grid arrays are rebuilt every step; only the mass threshold depends on the
@@ -325,5 +325,6 @@ template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Di
 }
 
 template std::unique_ptr<ExplicitSolver> make_explicit_solver<2>(Scene<2>&);
+template std::unique_ptr<ExplicitSolver> make_explicit_solver<3>(Scene<3>&);
 
 } // namespace talus

@@ -1,5 +1,6 @@
 #include "talus/solver/run.hpp"
 
+#include "run_recorder.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
 #include "talus/core/splitting.hpp"
@@ -29,6 +30,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using run_detail::Recorder;
+
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_interrupt(int) {
   g_interrupted = true;
@@ -38,197 +41,31 @@ extern "C" void on_interrupt(int) {
 const char* const kResultFiles[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json",
                                     "newton.log"};
 
-RunMetadata metadata_of(const Scene<2>& scene) {
-  const CaseSpec& spec = scene.spec;
-  RunMetadata m;
-  m.case_name = spec.name;
-  m.case_file = spec.source_file;
-  m.case_text = spec.source_text;
-  m.overrides = spec.overrides;
-  m.version = TALUS_VERSION;
-  m.dimension = spec.dimension;
-  m.grid_origin = spec.grid.origin;
-  m.grid_extent = spec.grid.extent;
-  m.cell_size = spec.grid.cell_size;
-  for (const auto& mat : spec.materials)
-    m.material_names.push_back(mat.name);
-  for (const auto& b : spec.bodies)
-    m.body_names.push_back(b.name);
-  return m;
-}
-
-bool face_constrained(const BoundarySpec& bc, int face) {
-  return bc[face] != FaceCondition::Free;
-}
-
-std::vector<std::string> timeseries_columns(const Scene<2>& scene) {
-  std::vector<std::string> cols = {
-      "time",           "step",         "dt",         "kinetic_energy", "strain_energy",
-      "gravity_energy", "total_energy", "momentum_x", "momentum_y",     "particles"};
-  if (!scene.spec.stages.empty())
-    cols.push_back("stage"); // 1, 2, ... in the order of the case's stages
-  for (int f = 0; f < face_count(scene.spec.dimension); ++f)
-    if (face_constrained(scene.spec.boundaries, f)) {
-      cols.push_back(fmt::format("reaction_{}_x", face_name(f)));
-      cols.push_back(fmt::format("reaction_{}_y", face_name(f)));
-    }
-  for (const auto& region : scene.spec.prescribed) {
-    cols.push_back(fmt::format("reaction_{}_x", region.name));
-    cols.push_back(fmt::format("reaction_{}_y", region.name));
-  }
-  for (const auto& name : scene.probe_names)
-    for (const char* q : {"x", "y", "vx", "vy", "sxx", "syy", "sxy", "szz"})
-      cols.push_back(fmt::format("{}.{}", name, q));
-  return cols;
-}
-
-std::vector<double> timeseries_row(const Scene<2>& scene, const Energies& e,
-                                   const FaceReactions& reactions,
-                                   const std::vector<Vec3>& prescribed, double time, Index step,
-                                   double dt, std::size_t stage) {
-  std::vector<double> row = {time,
-                             static_cast<double>(step),
-                             dt,
-                             e.kinetic,
-                             e.strain,
-                             e.gravity,
-                             e.kinetic + e.strain + e.gravity,
-                             e.momentum.x(),
-                             e.momentum.y(),
-                             static_cast<double>(scene.particles.size())};
-  if (!scene.spec.stages.empty())
-    row.push_back(static_cast<double>(stage + 1));
-  for (int f = 0; f < face_count(scene.spec.dimension); ++f)
-    if (face_constrained(scene.spec.boundaries, f)) {
-      row.push_back(reactions[static_cast<std::size_t>(f)].x());
-      row.push_back(reactions[static_cast<std::size_t>(f)].y());
-    }
-  for (std::size_t r = 0; r < scene.spec.prescribed.size(); ++r) {
-    const Vec3 f = r < prescribed.size() ? prescribed[r] : Vec3::Zero();
-    row.push_back(f.x());
-    row.push_back(f.y());
-  }
-  const auto& P = scene.particles;
-  for (const Index p : scene.probe_particles) {
-    const auto s = static_cast<std::size_t>(p);
-    row.insert(row.end(), {P.x[s].x(), P.x[s].y(), P.v[s].x(), P.v[s].y(), P.stress[s](0, 0),
-                           P.stress[s](1, 1), P.stress[s](0, 1), P.stress[s](2, 2)});
-  }
-  return row;
-}
-
-// What both analyses share while stepping: frames on the output schedule, time-series rows,
-// progress, and the interrupt flag.
-// Times are the stage's own (from 0 at its start); frames and rows are written at the run's
-// time, the stage's start time plus the stage's time.
-struct Recorder {
-  const Scene<2>& scene;
-  ResultsWriter& writer;
-  TimeSeriesWriter& series;
-  Progress* progress = nullptr; ///< the current stage's progress line
-  double frame_interval = 0;
-  double next_frame_time = 0;
-  double stage_start_time = 0;
-  std::size_t stage = 0; ///< index into the run's stages
-  bool frame_at_current_step = true;
-  Index last_frame_step = 0;
-  double last_frame_time = 0;
-  double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
-  std::optional<StressRecovery> recovery{}; ///< made on the first frame, reused by the others
-  Voxels voxels{};
-  std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
-
-  /// Writes the current state as a frame, with the post-processing fields the case asks for:
-  /// they are computed here, on output frames only.
-  void write_frame(Index step, double t) {
-    const OutputSpec& out = scene.spec.output;
-    const auto start = std::chrono::steady_clock::now();
-    FramePost post;
-    if (out.stress_recovery) {
-      if (!recovery)
-        recovery.emplace(scene.grid, scene.spec.solver.shape);
-      post.stress = &recovery->recover(scene.particles);
-    }
-    if (out.voxels) {
-      update_voxels(scene.particles, scene.grid.origin(),
-                    out.pattern_size.value_or(scene.grid.cell_size()), voxels);
-      post.voxels = &voxels;
-    }
-    post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (std::find(out.fields.begin(), out.fields.end(), OutputField::PlasticStrain) !=
-        out.fields.end()) {
-      plastic_strain.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
-      for (std::size_t m = 0; m < scene.materials.size(); ++m)
-        scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
-      post.plastic_strain = &plastic_strain;
-    }
-    writer.write_frame(step, stage_start_time + t, scene.particles, out.fields, post);
-    frame_at_current_step = true;
-    last_frame_step = step;
-    last_frame_time = stage_start_time + t;
-  }
-
-  void begin_stage(std::size_t index, Progress& stage_progress, double interval,
-                   double start_time) {
-    stage = index;
-    progress = &stage_progress;
-    frame_interval = interval;
-    next_frame_time = interval;
-    stage_start_time = start_time;
-  }
-
-  /// The time-series row of the current state at the stage's time t.
-  void append_row(const Energies& e, const FaceReactions& reactions,
-                  const std::vector<Vec3>& prescribed, double t, Index step, double dt) {
-    series.append(
-        timeseries_row(scene, e, reactions, prescribed, stage_start_time + t, step, dt, stage));
-  }
-
-  /// Stops the run (StateGuardError) when the guard found something; `when` says at which
-  /// point of the step. A bad state is not written: the frames already on disk are the good ones.
-  void stop_if_violated(const std::optional<StateViolation>& violation,
-                        const std::string& when) const {
-    if (violation)
-      throw StateGuardError(
-          fmt::format("state guard: {} {}; the last good frame is frame {} (step {}, t = {:g})",
-                      violation->describe(), when, writer.frames_written() - 1, last_frame_step,
-                      last_frame_time));
-  }
-
-  /// The end of the next step: the end time or the next frame time, whichever comes first.
-  double target(double end_time) const {
-    return frame_interval > 0 ? std::min(end_time, next_frame_time) : end_time;
-  }
-  void after_step(Index step, double t, double dt, const Energies& e,
-                  const FaceReactions& reactions, const std::vector<Vec3>& prescribed,
-                  const std::string& extra) {
-    append_row(e, reactions, prescribed, t, step, dt);
-    const OutputSpec& out = scene.spec.output;
-    frame_at_current_step = false;
-    const bool due =
-        out.every_steps ? (step % *out.every_steps == 0) : (t >= next_frame_time * (1.0 - 1e-12));
-    if (due) {
-      write_frame(step, t);
-      while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
-        next_frame_time += frame_interval;
-    }
-    progress->update(step, t, dt, extra);
-  }
-  /// Makes sure the state the run ends in is a frame.
-  void final_frame(Index step, double t) {
-    if (!frame_at_current_step)
-      write_frame(step, t);
-  }
-};
-
 struct LoopState {
   double t = 0;               ///< the stage's time
   Index step = 0;             ///< steps of the whole run
   Index stage_first_step = 0; ///< `step` when the current stage began
   /// RunOptions::stop_after_step, and what it said when it ended the run.
-  std::function<std::optional<std::string>(const Scene<2>&, double)> stop_after_step{};
+  std::function<std::optional<std::string>(std::span<const ProbeState>, double)> stop_after_step{};
   std::optional<std::string> stopped{};
 };
+
+/// The probes' points now and at the start, for RunOptions::stop_after_step.
+template <int Dim> std::vector<ProbeState> probe_states(const Scene<Dim>& scene) {
+  std::vector<ProbeState> out;
+  for (std::size_t k = 0; k < scene.probe_particles.size(); ++k) {
+    const auto p = static_cast<std::size_t>(scene.probe_particles[k]);
+    out.push_back({scene.probe_names[k], padded<Dim>(scene.particles.x0[p]),
+                   padded<Dim>(scene.particles.x[p])});
+  }
+  return out;
+}
+
+/// Asks RunOptions::stop_after_step, if the run has one, after a completed step.
+template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double time) {
+  if (s.stop_after_step)
+    s.stopped = s.stop_after_step(probe_states(scene), time);
+}
 
 void check_limits(const TimeSpec& time, const LoopState& s) {
   if (s.step - s.stage_first_step >= time.max_steps)
@@ -244,11 +81,11 @@ constexpr double kSliver = 1e-9;
 /// The strength of the frictional materials during a stage: c / F, tan(phi) / F with F moving
 /// from the previous stage's factor to the stage's own over a quasi-static stage, or set at
 /// the start of a dynamic one. The materials keep their history; only the return map changes.
-class StageStrength {
+template <int Dim> class StageStrength {
 public:
   /// `applied`: the factor the materials have now (the previous stage's), kept up to date as
   /// the factor changes (the caller's record outlives a failed stage); `end`: the stage's.
-  StageStrength(Scene<2>& scene, const CaseSpec& case_spec, double& applied, double end)
+  StageStrength(Scene<Dim>& scene, const CaseSpec& case_spec, double& applied, double end)
       : scene_(scene), case_spec_(case_spec), start_(applied), end_(end), applied_(applied) {}
 
   /// Sets the factor for a step that ends at the fraction `progress` of the stage.
@@ -267,7 +104,7 @@ public:
   double factor() const { return applied_; }
 
 private:
-  Scene<2>& scene_;
+  Scene<Dim>& scene_;
   const CaseSpec& case_spec_; ///< the case as written, full strength
   double start_, end_;
   double& applied_; ///< the factor the materials' return maps have
@@ -275,7 +112,8 @@ private:
 
 /// Splits the points that meet their body's criterion after a completed step (a converged one
 /// in the implicit analyses), so every step starts from a consistent set of points.
-template <class Solver> void split_after_step(Scene<2>& scene, Solver& solver, RunResult& result) {
+template <int Dim, class Solver>
+void split_after_step(Scene<Dim>& scene, Solver& solver, RunResult& result) {
   const Index splits = split_material_points(scene);
   if (splits == 0)
     return;
@@ -284,7 +122,8 @@ template <class Solver> void split_after_step(Scene<2>& scene, Solver& solver, R
 }
 
 /// Explicit dynamics: CFL or fixed steps until end_time.
-void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
+template <int Dim>
+void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
                   StageWatch& watch) {
   auto solver = make_explicit_solver(scene);
   const TimeSpec& time = scene.spec.time;
@@ -326,8 +165,7 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
     s.t = t_end;
     ++s.step;
     const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
-    if (s.stop_after_step)
-      s.stopped = s.stop_after_step(scene, rec.stage_start_time + s.t);
+    ask_stop(s, scene, rec.stage_start_time + s.t);
     split_after_step(scene, *solver, result);
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
@@ -345,8 +183,8 @@ void run_explicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
 /// residual history goes to newton.log. A failure at the minimum step ends the run after
 /// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
 /// the stage's pseudo-time (the first stage); otherwise they act in full.
-void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& result,
-                  const fs::path& out_dir, StageWatch& watch, StageStrength& strength,
+void run_implicit(Scene<2>& scene, Recorder<2>& rec, LoopState& s, RunResult& result,
+                  const fs::path& out_dir, StageWatch& watch, StageStrength<2>& strength,
                   bool loads_ramp) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
   result.linear_solver = solver->linear_solver();
@@ -438,8 +276,7 @@ void run_implicit(Scene<2>& scene, Recorder& rec, LoopState& s, RunResult& resul
       s.t = t_end;
       ++s.step;
       const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
-      if (s.stop_after_step)
-        s.stopped = s.stop_after_step(scene, rec.stage_start_time + s.t);
+      ask_stop(s, scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);
       const int easy = scene.spec.solver.easy_newton_iterations;
       if (r.iterations <= easy && ++easy_steps >= 2) {
@@ -477,9 +314,9 @@ std::vector<StageSpec> stages_of(const CaseSpec& spec) {
 
 /// A quasi-static stage leaves the points in equilibrium with a pseudo-rate as velocity: a
 /// dynamic stage after it starts them at rest, with no Newmark acceleration yet.
-void start_at_rest(Particles<2>& P) {
-  std::fill(P.v.begin(), P.v.end(), Vec2::Zero());
-  std::fill(P.affine_velocity.begin(), P.affine_velocity.end(), Mat2::Zero());
+template <int Dim> void start_at_rest(Particles<Dim>& P) {
+  std::fill(P.v.begin(), P.v.end(), Vec<Dim>::Zero());
+  std::fill(P.affine_velocity.begin(), P.affine_velocity.end(), Mat<Dim>::Zero());
   P.acceleration.clear();
 }
 
@@ -520,10 +357,13 @@ void prepare_output_directory(const fs::path& dir, bool force) {
   claim_output_directory(dir, force, kResultFiles);
 }
 
-RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
+namespace {
+
+/// run_case for a case of dimension Dim: the stages, each from the state the previous left.
+template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   // Everything that can reject the input happens before the first byte is written.
-  Scene<2> scene = build_scene<2>(spec);
+  Scene<Dim> scene = build_scene<Dim>(spec);
   RunResult result;
   result.out_dir = options.out_dir.empty() ? fs::path("results") / spec.name : options.out_dir;
   prepare_output_directory(result.out_dir, options.force);
@@ -531,8 +371,8 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     omp_set_num_threads(options.threads);
 
   fs::create_directories(result.out_dir);
-  ResultsWriter writer(result.out_dir, metadata_of(scene));
-  TimeSeriesWriter series(result.out_dir / "timeseries.csv", timeseries_columns(scene));
+  ResultsWriter writer(result.out_dir, run_detail::metadata_of(scene));
+  TimeSeriesWriter series(result.out_dir / "timeseries.csv", run_detail::timeseries_columns(scene));
 
   const OutputSpec& out = spec.output;
   g_interrupted = false;
@@ -541,7 +381,7 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
 
   const std::vector<StageSpec> stages = stages_of(spec);
   const bool staged = !spec.stages.empty();
-  Recorder recorder{scene, writer, series};
+  Recorder<Dim> recorder{scene, writer, series};
   LoopState state;
   state.stop_after_step = options.stop_after_step;
   result.status = "completed";
@@ -588,14 +428,16 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
                                           : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
                            stage_start_time);
       StageWatch watch(stage);
-      StageStrength strength(scene, spec, strength_factor,
-                             stage.strength_factor.value_or(strength_factor));
+      StageStrength<Dim> strength(scene, spec, strength_factor,
+                                  stage.strength_factor.value_or(strength_factor));
       // From here on strength_factor follows the factor the materials have.
       if (stage.analysis == AnalysisType::Explicit) {
         strength.at(1.0);
         run_explicit(scene, recorder, state, result, watch);
-      } else {
+      } else if constexpr (Dim == 2) {
         run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
+      } else {
+        throw std::logic_error("an implicit 3D stage got past the case reader");
       }
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);
@@ -642,8 +484,9 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     result.extra["seconds_post_processing"] = recorder.post_seconds;
   // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).
   result.particles = scene.particles.size();
-  if (options.final_state)
-    options.final_state(scene);
+  if constexpr (Dim == 2)
+    if (options.final_state)
+      options.final_state(scene);
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 
@@ -673,6 +516,12 @@ RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
     summary.stages = result.stages;
   write_summary_json(result.out_dir / "summary.json", summary);
   return result;
+}
+
+} // namespace
+
+RunResult run_case(const CaseSpec& spec, const RunOptions& options) {
+  return spec.dimension == 3 ? run_case_in<3>(spec, options) : run_case_in<2>(spec, options);
 }
 
 } // namespace talus

@@ -8,16 +8,20 @@ namespace talus {
 StageWatch::StageWatch(const StageSpec& stage)
     : stage_(stage), started_(std::chrono::steady_clock::now()) {}
 
-void StageWatch::before_step(const Particles<2>& P) {
-  if (stage_.at_rest)
-    x_before_.assign(P.x.begin(), P.x.end());
+template <int Dim> void StageWatch::before_step(const Particles<Dim>& P) {
+  if (!stage_.at_rest)
+    return;
+  x_before_.resize(P.x.size());
+  for (std::size_t p = 0; p < P.x.size(); ++p)
+    x_before_[p] = padded<Dim>(P.x[p]);
 }
 
-bool StageWatch::ends_after_step(const Particles<2>& P, double t, double dt) {
+template <int Dim> bool StageWatch::ends_after_step(const Particles<Dim>& P, double t, double dt) {
   if (stage_.at_rest) {
     double kinetic_energy = 0;
     for (std::size_t p = 0; p < x_before_.size(); ++p)
-      kinetic_energy += 0.5 * P.mass[p] * (P.x[p] - x_before_[p]).squaredNorm() / (dt * dt);
+      kinetic_energy +=
+          0.5 * P.mass[p] * (padded<Dim>(P.x[p]) - x_before_[p]).squaredNorm() / (dt * dt);
     peak_kinetic_ = std::max(peak_kinetic_, kinetic_energy);
     if (kinetic_energy <= stage_.at_rest->kinetic_energy_ratio * peak_kinetic_) {
       if (!quiet_since_)
@@ -46,5 +50,10 @@ bool StageWatch::ends_after_step(const Particles<2>& P, double t, double dt) {
   }
   return false;
 }
+
+template void StageWatch::before_step<2>(const Particles<2>&);
+template void StageWatch::before_step<3>(const Particles<3>&);
+template bool StageWatch::ends_after_step<2>(const Particles<2>&, double, double);
+template bool StageWatch::ends_after_step<3>(const Particles<3>&, double, double);
 
 } // namespace talus

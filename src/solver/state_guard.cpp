@@ -16,22 +16,25 @@ std::optional<double> non_finite_component(const Eigen::MatrixBase<Derived>& m) 
   return std::nullopt;
 }
 
-StateViolation particle_violation(const Particles<2>& P, std::size_t s, const char* field,
+template <int Dim>
+StateViolation particle_violation(const Particles<Dim>& P, std::size_t s, const char* field,
                                   double value, const char* condition) {
-  return StateViolation{field, false, static_cast<Index>(s), P.x0[s], value, condition};
+  return StateViolation{field, false,    static_cast<Index>(s), padded<Dim>(P.x0[s]), Dim,
+                        value, condition};
 }
 
 } // namespace
 
 std::string StateViolation::describe() const {
-  const std::string where =
-      on_node ? fmt::format("grid node {} at ({:g}, {:g})", index, position.x(), position.y())
-              : fmt::format("particle {} (initial position ({:g}, {:g}))", index, position.x(),
-                            position.y());
+  const std::string at =
+      dimension == 3 ? fmt::format("({:g}, {:g}, {:g})", position.x(), position.y(), position.z())
+                     : fmt::format("({:g}, {:g})", position.x(), position.y());
+  const std::string where = on_node ? fmt::format("grid node {} at {}", index, at)
+                                    : fmt::format("particle {} (initial position {})", index, at);
   return fmt::format("{} = {:g} {} at {}", field, value, condition, where);
 }
 
-std::optional<StateViolation> find_particle_violation(const Particles<2>& P) {
+template <int Dim> std::optional<StateViolation> find_particle_violation(const Particles<Dim>& P) {
   constexpr const char* kNotFinite = "is not finite";
   for (std::size_t s = 0; s < P.x.size(); ++s) {
     // Fields in the order the step computes them, so the report names the earliest symptom.
@@ -53,17 +56,20 @@ std::optional<StateViolation> find_particle_violation(const Particles<2>& P) {
   return std::nullopt;
 }
 
-std::optional<StateViolation> find_node_violation(const Grid<2>& grid, std::span<const Index> nodes,
-                                                  std::span<const Vec2> field,
-                                                  const char* field_name) {
+template <int Dim>
+std::optional<StateViolation>
+find_node_violation(const Grid<Dim>& grid, std::span<const Index> nodes,
+                    std::span<const Vec<Dim>> field, const char* field_name) {
   for (const Index n : nodes)
     if (const auto bad = non_finite_component(field[static_cast<std::size_t>(n)]))
-      return StateViolation{field_name, true,           n, grid.node_position(grid.node_ijk(n)),
-                            *bad,       "is not finite"};
+      return StateViolation{
+          field_name, true,           n, padded<Dim>(grid.node_position(grid.node_ijk(n))), Dim,
+          *bad,       "is not finite"};
   return std::nullopt;
 }
 
-std::optional<StateViolation> find_courant_violation(const Scene<2>& scene, double dt) {
+template <int Dim>
+std::optional<StateViolation> find_courant_violation(const Scene<Dim>& scene, double dt) {
   const auto& P = scene.particles;
   const double h = scene.grid.cell_size();
   double worst = 1.0;
@@ -79,5 +85,14 @@ std::optional<StateViolation> find_courant_violation(const Scene<2>& scene, doub
   }
   return found;
 }
+
+#define TALUS_INSTANTIATE(Dim)                                                                     \
+  template std::optional<StateViolation> find_particle_violation<Dim>(const Particles<Dim>&);      \
+  template std::optional<StateViolation> find_node_violation<Dim>(                                 \
+      const Grid<Dim>&, std::span<const Index>, std::span<const Vec<Dim>>, const char*);           \
+  template std::optional<StateViolation> find_courant_violation<Dim>(const Scene<Dim>&, double);
+TALUS_INSTANTIATE(2)
+TALUS_INSTANTIATE(3)
+#undef TALUS_INSTANTIATE
 
 } // namespace talus

@@ -45,13 +45,13 @@ std::string quoted(const std::string& text) {
 
 /// The crest criterion as a run's stop_after_step: the probe's displacement from its initial
 /// position beyond the limit ends the trial at that load step.
-std::function<std::optional<std::string>(const Scene<2>&, double)>
+std::function<std::optional<std::string>(std::span<const ProbeState>, double)>
 crest_limit_stop(const StrengthReductionSpec& settings, double end_time) {
-  return [&settings, end_time](const Scene<2>& scene, double time) -> std::optional<std::string> {
-    const auto name = std::find(scene.probe_names.begin(), scene.probe_names.end(), settings.probe);
-    const auto p = static_cast<std::size_t>(
-        scene.probe_particles[static_cast<std::size_t>(name - scene.probe_names.begin())]);
-    const double moved = (scene.particles.x[p] - scene.particles.x0[p]).norm();
+  return [&settings, end_time](std::span<const ProbeState> probes,
+                               double time) -> std::optional<std::string> {
+    const auto crest = std::find_if(probes.begin(), probes.end(),
+                                    [&](const ProbeState& p) { return p.name == settings.probe; });
+    const double moved = (crest->current - crest->initial).norm();
     if (moved <= *settings.displacement_limit)
       return std::nullopt;
     return fmt::format("crest moved {:.4g} m > limit {:g} m at load {:.4g}", moved,

@@ -72,8 +72,8 @@ TEST_P(RecoveryForShape, UniformStressComesBackExactly) {
     p.mass[s] = mass(rng);
     p.stress[s] = sigma;
   }
-  StressRecovery recovery(grid, GetParam());
-  const RecoveredStress& r = recovery.recover(p);
+  StressRecovery<2> recovery(grid, GetParam());
+  const RecoveredStress<2>& r = recovery.recover(p);
   Index nodes_with_mass = 0;
   for (std::size_t n = 0; n < r.node_mass.size(); ++n) {
     if (r.node_mass[n] == 0) {
@@ -103,8 +103,8 @@ TEST_P(RecoveryForShape, MassWeightedStressIsConserved) {
     particle_sum += p.mass[s] * p.stress[s];
     scale += p.mass[s] * p.stress[s].cwiseAbs().maxCoeff();
   }
-  StressRecovery recovery(grid, GetParam());
-  const RecoveredStress& r = recovery.recover(p);
+  StressRecovery<2> recovery(grid, GetParam());
+  const RecoveredStress<2>& r = recovery.recover(p);
   Mat3 node_sum = Mat3::Zero();
   for (std::size_t n = 0; n < r.node_mass.size(); ++n)
     node_sum += r.node_mass[n] * full(r.node_stress[n]);
@@ -124,8 +124,8 @@ TEST_P(RecoveryForShape, HeavierPointsCountMore) {
   p.mass[1] = 1.0;
   p.stress[0] = Mat3::Identity();
   p.stress[1] = 5.0 * Mat3::Identity();
-  StressRecovery recovery(grid, GetParam());
-  const RecoveredStress& r = recovery.recover(p);
+  StressRecovery<2> recovery(grid, GetParam());
+  const RecoveredStress<2>& r = recovery.recover(p);
   for (std::size_t n = 0; n < r.node_mass.size(); ++n) {
     if (r.node_mass[n] > 0) {
       EXPECT_NEAR(full(r.node_stress[n])(0, 0), 2.0, kRoundOff);
@@ -144,8 +144,8 @@ TEST_P(RecoveryForShape, LinearFieldIsExactInsideAUniformLattice) {
   auto field = [](const Vec2& x) { return 0.3 + 2.0 * x.x() - 1.5 * x.y(); };
   for (std::size_t s = 0; s < p.x.size(); ++s)
     p.stress[s] = field(p.x[s]) * Mat3::Identity();
-  StressRecovery recovery(grid, GetParam());
-  const RecoveredStress& r = recovery.recover(p);
+  StressRecovery<2> recovery(grid, GetParam());
+  const RecoveredStress<2>& r = recovery.recover(p);
   // Nodes 2..8 are at least one cell plus a GIMP half-width inside the filled cells 1..9.
   for (Index j = 2; j <= 8; ++j)
     for (Index i = 2; i <= 8; ++i) {

@@ -232,7 +232,7 @@ TEST(Results, PlasticStrainIsWrittenFromTheFrameData) {
   const std::vector<double> kappa = {0.0, 1.25e-3, 3.0 / 7.0, 2.0e-6};
   {
     ResultsWriter w(dir.path(), make_metadata());
-    FramePost post;
+    FramePost<2> post;
     EXPECT_THROW(w.write_frame(0, 0, p, {OutputField::PlasticStrain}, post), std::invalid_argument);
     const std::vector<double> short_list(3, 0.0);
     post.plastic_strain = &short_list;
@@ -343,7 +343,7 @@ TEST(Results, XdmfOpensInVtkReaders) {
       std::vector<double> kappa(static_cast<std::size_t>(n));
       for (std::size_t i = 0; i < kappa.size(); ++i)
         kappa[i] = 1e-3 * static_cast<double>(i + 1) / (k + 3.0);
-      FramePost post;
+      FramePost<2> post;
       post.plastic_strain = &kappa;
       w.write_frame(kSteps[k], kTimes[k], make_particles(n, k), fields, post);
     }

@@ -69,7 +69,7 @@ TEST(StateGuard, EveryParticleFieldIsGuarded) {
     EXPECT_EQ(v->field, c.field);
     EXPECT_FALSE(v->on_node);
     EXPECT_EQ(v->index, 2);
-    EXPECT_EQ(v->position, P.x0[2]);
+    EXPECT_EQ(v->position, talus::padded<2>(P.x0[2]));
     if (std::isnan(c.value))
       EXPECT_TRUE(std::isnan(v->value));
     else
@@ -86,15 +86,15 @@ TEST(StateGuard, GridNodesAreNamedWithTheirPosition) {
   const Index bad = grid.node_id({2, 3});
   velocity[static_cast<std::size_t>(bad)].x() = kNaN;
   const std::vector<Index> active = {grid.node_id({0, 0}), bad, grid.node_id({4, 4})};
-  const auto v = talus::find_node_violation(grid, active, velocity, "grid velocity");
+  const auto v = talus::find_node_violation<2>(grid, active, velocity, "grid velocity");
   ASSERT_TRUE(v.has_value());
   EXPECT_TRUE(v->on_node);
   EXPECT_EQ(v->index, bad);
-  EXPECT_EQ(v->position, Vec2(1.0, 1.5));
+  EXPECT_EQ(v->position, talus::Vec3(1.0, 1.5, 0.0));
   EXPECT_NE(v->describe().find("grid velocity = nan is not finite at grid node"), std::string::npos)
       << v->describe();
   // A node outside the active list is never looked at.
-  EXPECT_FALSE(talus::find_node_violation(grid, std::vector<Index>{grid.node_id({0, 0})}, velocity,
-                                          "grid velocity")
+  EXPECT_FALSE(talus::find_node_violation<2>(grid, std::vector<Index>{grid.node_id({0, 0})},
+                                             velocity, "grid velocity")
                    .has_value());
 }

@@ -311,8 +311,9 @@ TEST_F(StopAfterStep, EndsAnImplicitRunAfterTheStepWithItsMessage) {
   options.out_dir = root_ / "run";
   options.progress = false;
   std::vector<double> seen;
-  options.stop_after_step = [&](const Scene<2>& scene, double time) -> std::optional<std::string> {
-    EXPECT_EQ(scene.spec.name, "block");
+  options.stop_after_step = [&](std::span<const ProbeState> probes,
+                                double time) -> std::optional<std::string> {
+    EXPECT_TRUE(probes.empty()); // the block has no probes
     seen.push_back(time);
     if (time < 0.5)
       return std::nullopt;
@@ -341,7 +342,9 @@ TEST_F(StopAfterStep, EndsAnImplicitRunAfterTheStepWithItsMessage) {
   EXPECT_EQ(summary.at("steps").get<Index>(), 2);
   // A hook that never objects leaves the run as it was.
   options.out_dir = root_ / "through";
-  options.stop_after_step = [](const Scene<2>&, double) { return std::optional<std::string>{}; };
+  options.stop_after_step = [](std::span<const ProbeState>, double) {
+    return std::optional<std::string>{};
+  };
   const RunResult through = run_case(spec, options);
   EXPECT_EQ(through.status, "completed") << through.message;
   EXPECT_EQ(through.steps, 4);
@@ -357,7 +360,8 @@ TEST_F(StopAfterStep, EndsAnExplicitRunAfterTheStep) {
   options.progress = false;
   int calls = 0;
   double stopped_at = 0;
-  options.stop_after_step = [&](const Scene<2>&, double time) -> std::optional<std::string> {
+  options.stop_after_step = [&](std::span<const ProbeState>,
+                                double time) -> std::optional<std::string> {
     if (++calls < 3)
       return std::nullopt;
     stopped_at = time;

@@ -34,8 +34,8 @@ Particles<2> one_point(const Vec2& x, const Vec2& half, const Mat2& F) {
   return p;
 }
 
-Voxels voxels_of(const Particles<2>& p, const Vec2& pattern_origin, double pattern_size) {
-  Voxels v;
+Voxels<2> voxels_of(const Particles<2>& p, const Vec2& pattern_origin, double pattern_size) {
+  Voxels<2> v;
   update_voxels(p, pattern_origin, pattern_size, v);
   return v;
 }
@@ -52,7 +52,7 @@ double shoelace_area(const std::array<Vec2, 4>& q) {
 
 TEST(Voxels, IdentityGivesTheInitialLatticeCell) {
   const Particles<2> p = one_point(Vec2(1.0, 2.0), Vec2(0.25, 0.125), Mat2::Identity());
-  const Voxels v = voxels_of(p, Vec2::Zero(), 1.0);
+  const Voxels<2> v = voxels_of(p, Vec2::Zero(), 1.0);
   const std::array<Vec2, 4> want = {Vec2(0.75, 1.875), Vec2(1.25, 1.875), Vec2(1.25, 2.125),
                                     Vec2(0.75, 2.125)};
   for (std::size_t c = 0; c < 4; ++c)
@@ -72,7 +72,7 @@ TEST(Voxels, AreaIsDetFTimesTheInitialAreaAndCentroidIsThePoint) {
       continue; // admissible deformation gradients only
     const Vec2 half(0.05, 0.03);
     const Particles<2> p = one_point(Vec2(u(rng), u(rng)), half, F);
-    const Voxels v = voxels_of(p, Vec2::Zero(), 1.0);
+    const Voxels<2> v = voxels_of(p, Vec2::Zero(), 1.0);
     EXPECT_NEAR(shoelace_area(v.corners[0]), F.determinant() * 4 * half.x() * half.y(), kRoundOff);
     const Vec2 centroid =
         0.25 * (v.corners[0][0] + v.corners[0][1] + v.corners[0][2] + v.corners[0][3]);
@@ -85,7 +85,7 @@ TEST(Voxels, RotationKeepsEdgeLengths) {
   Mat2 R;
   R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
   const Particles<2> p = one_point(Vec2(0.3, 0.4), Vec2(0.1, 0.05), R);
-  const Voxels v = voxels_of(p, Vec2::Zero(), 1.0);
+  const Voxels<2> v = voxels_of(p, Vec2::Zero(), 1.0);
   const auto& q = v.corners[0];
   EXPECT_NEAR((q[1] - q[0]).norm(), 0.2, kRoundOff);
   EXPECT_NEAR((q[2] - q[1]).norm(), 0.1, kRoundOff);
@@ -107,7 +107,7 @@ TEST(Voxels, PatternsFollowTheInitialLatticeNotTheCurrentPosition) {
       p.x[s] = p.x0[s] + Vec2(0.37, -0.11);
       p.half_size0[s] = Vec2::Constant(0.5 * spacing);
     }
-  const Voxels v = voxels_of(p, origin, side);
+  const Voxels<2> v = voxels_of(p, origin, side);
   for (int j = 0; j < 8; ++j)
     for (int i = 0; i < 8; ++i) {
       const auto s = static_cast<std::size_t>(8 * j + i);

@@ -33,9 +33,9 @@ struct RunMetadata {
 /// Frame data gathered outside the particle arrays: post-processing results written when the
 /// case asks for them (output.stress_recovery, output.voxels; a null pointer writes nothing of
 /// that kind), and the plastic strain, which lives in the materials' history.
-struct FramePost {
-  const RecoveredStress* stress = nullptr; ///< -> stress_smoothed and the grid/ group
-  const Voxels* voxels = nullptr;          ///< -> the voxels/ group
+template <int Dim> struct FramePost {
+  const RecoveredStress<Dim>* stress = nullptr; ///< -> stress_smoothed and the grid/ group
+  const Voxels<Dim>* voxels = nullptr;          ///< -> the voxels/ group
   /// One value per particle; required when the fields list plastic_strain.
   const std::vector<double>* plastic_strain = nullptr;
 };
@@ -47,8 +47,10 @@ class ResultsWriter {
 public:
   /// Creates `dir`/run.h5 (replacing an existing one) and writes the metadata.
   ResultsWriter(std::filesystem::path dir, RunMetadata metadata);
-  void write_frame(Index step, double time, const Particles<2>& particles,
-                   const std::vector<OutputField>& fields, const FramePost& post = {});
+  /// Dim must be the metadata's dimension.
+  template <int Dim>
+  void write_frame(Index step, double time, const Particles<Dim>& particles,
+                   const std::vector<OutputField>& fields, const FramePost<Dim>& post = {});
   Index frames_written() const { return frames_; }
   const std::filesystem::path& h5_path() const { return h5_path_; }
 
@@ -66,7 +68,7 @@ private:
     bool voxels = false;    ///< has voxels/
   };
   std::vector<FrameInfo> frame_info_;
-  std::array<Index, 2> grid_nodes_{0, 0}; ///< physical nodes of the grid/ group (x, y)
+  std::array<Index, 3> grid_nodes_{1, 1, 1}; ///< physical nodes of the grid/ group (x, y, z)
 };
 
 /// Reads run.h5 back (tests, `talus render`, restart).

@@ -20,8 +20,8 @@ namespace talus {
 /// order of the stress datasets in run.h5; six sums instead of nine).
 using SymmetricStress = Eigen::Matrix<double, 6, 1>;
 
-struct RecoveredStress {
-  Grid<2> grid;                       ///< the background grid the node arrays refer to
+template <int Dim> struct RecoveredStress {
+  Grid<Dim> grid;                     ///< the background grid the node arrays refer to
   std::vector<double> node_mass;      ///< m_i per node (flat Grid::node_id, ghosts included), kg
   Array<SymmetricStress> node_stress; ///< sigma_i per node, Pa; zero where m_i = 0
   Array<SymmetricStress> smoothed_stress; ///< sigma_p^s per particle, Pa
@@ -29,15 +29,15 @@ struct RecoveredStress {
 
 /// Computes RecoveredStress for successive frames of one run. It keeps its arrays between
 /// calls: a run allocates them once, not once per frame.
-class StressRecovery {
+template <int Dim> class StressRecovery {
 public:
-  StressRecovery(const Grid<2>& grid, ShapeFunction shape);
+  StressRecovery(const Grid<Dim>& grid, ShapeFunction shape);
   ~StressRecovery();
   StressRecovery(StressRecovery&&) noexcept;
   StressRecovery& operator=(StressRecovery&&) noexcept;
   /// Projects the particle stresses to the grid and back. Throws NumericalError if a particle
   /// lies outside the grid. The result stays valid until the next call.
-  const RecoveredStress& recover(const Particles<2>& particles);
+  const RecoveredStress<Dim>& recover(const Particles<Dim>& particles);
 
   class Impl; ///< the work for one shape function (src/post/stress_recovery.cpp)
 

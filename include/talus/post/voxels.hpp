@@ -12,19 +12,22 @@
 
 namespace talus {
 
-struct Voxels {
-  /// Per particle the four deformed corners, counter-clockwise from the initial (-, -) corner:
-  /// (-, -), (+, -), (+, +), (-, +).
-  Array<std::array<Vec2, 4>> corners;
-  /// Pattern colour (0 or 1) per particle, from the square of side `pattern_size` of the initial
-  /// lattice that holds x0: checker alternates in both directions, horizontal stripes in y only,
-  /// vertical stripes in x only.
+template <int Dim> struct Voxels {
+  static constexpr int kCorners = 1 << Dim;
+  /// Per particle the deformed corners. 2D: counter-clockwise from the initial (-, -) corner,
+  /// (-, -), (+, -), (+, +), (-, +). 3D: that square at z - and then at z + (VTK's hexahedron
+  /// order).
+  Array<std::array<Vec<Dim>, kCorners>> corners;
+  /// Pattern colour (0 or 1) per particle, from the square (cube) of side `pattern_size` of the
+  /// initial lattice that holds x0: checker alternates in every direction, horizontal stripes in
+  /// y only, vertical stripes in x only.
   std::vector<std::int32_t> checker, stripes_horizontal, stripes_vertical;
 };
 
 /// Fills `voxels` for the current state, reusing its storage from earlier frames; the pattern
 /// squares start at `pattern_origin` (the grid origin).
-void update_voxels(const Particles<2>& particles, const Vec2& pattern_origin, double pattern_size,
-                   Voxels& voxels);
+template <int Dim>
+void update_voxels(const Particles<Dim>& particles, const Vec<Dim>& pattern_origin,
+                   double pattern_size, Voxels<Dim>& voxels);
 
 } // namespace talus

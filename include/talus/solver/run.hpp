@@ -16,19 +16,28 @@ namespace talus {
 
 template <int Dim> struct Scene;
 
+/// A probe's point at the start of the run and now (z = 0 in 2D).
+struct ProbeState {
+  std::string name;
+  Vec3 initial;
+  Vec3 current;
+};
+
 struct RunOptions {
   std::filesystem::path out_dir; ///< empty: results/<case name>
   bool force = false;            ///< replace the result files of an earlier run in out_dir
   int threads = 0;               ///< OpenMP threads; 0 keeps the OpenMP default
   bool progress = true;          ///< progress line (terminal) or periodic log lines
-  /// Called with the state the run ended in (any status), before summary.json is written:
-  /// lets a caller (talus adapt) inspect the points without reading the results back.
+  /// Called with the state a 2D run ended in (any status), before summary.json is written:
+  /// lets a caller (talus adapt, 2D only) inspect the points without reading the results back.
   std::function<void(const Scene<2>&)> final_state{};
   /// Consulted after each completed step (a converged one in the implicit analyses) with the
-  /// state and the run's time: a message ends the run there, with status "stopped" and the
-  /// message as RunResult::message, after that step's time-series row and frame are written
-  /// (talus fos: a trial whose crest has slid too far need not carry the rest of its load).
-  std::function<std::optional<std::string>(const Scene<2>&, double time)> stop_after_step{};
+  /// probes' points and the run's time: a message ends the run there, with status "stopped"
+  /// and the message as RunResult::message, after that step's time-series row and frame are
+  /// written (talus fos: a trial whose crest has slid too far need not carry the rest of its
+  /// load).
+  std::function<std::optional<std::string>(std::span<const ProbeState> probes, double time)>
+      stop_after_step{};
 };
 
 struct RunResult {

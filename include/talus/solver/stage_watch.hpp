@@ -23,11 +23,11 @@ public:
   explicit StageWatch(const StageSpec& stage);
 
   /// Before each step (attempt): remembers the positions, if the stage watches for rest.
-  void before_step(const Particles<2>& P);
+  template <int Dim> void before_step(const Particles<Dim>& P);
 
   /// After each completed step of length dt ending at the stage time t, before any point is
   /// split: whether the stage ends now; reason() then says why.
-  bool ends_after_step(const Particles<2>& P, double t, double dt);
+  template <int Dim> bool ends_after_step(const Particles<Dim>& P, double t, double dt);
 
   const std::string& reason() const { return reason_; }
   /// The stage stopped on its wall-time limit (the run stops too).
@@ -38,7 +38,7 @@ private:
   std::chrono::steady_clock::time_point started_;
   double peak_kinetic_ = 0;
   std::optional<double> quiet_since_{};
-  std::vector<Vec2> x_before_{};
+  std::vector<Vec3> x_before_{}; ///< z = 0 in 2D
   std::string reason_{};
   bool out_of_time_ = false;
 };

@@ -24,12 +24,13 @@ public:
 };
 
 struct StateViolation {
-  std::string field;     ///< e.g. "velocity", "det F", "grid acceleration", "Courant number"
-  bool on_node = false;  ///< a grid node, otherwise a particle
-  Index index = -1;      ///< particle index (at this step) or grid node id
-  Vec2 position{0, 0};   ///< the particle's position at the start of the run, or the node's
-  double value = 0;      ///< the offending value (the first non-finite component)
-  std::string condition; ///< what was violated, e.g. "is not finite", "<= 0"
+  std::string field;      ///< e.g. "velocity", "det F", "grid acceleration", "Courant number"
+  bool on_node = false;   ///< a grid node, otherwise a particle
+  Index index = -1;       ///< particle index (at this step) or grid node id
+  Vec3 position{0, 0, 0}; ///< the particle's initial position, or the node's (z = 0 in 2D)
+  int dimension = 2;      ///< how many components of position to print
+  double value = 0;       ///< the offending value (the first non-finite component)
+  std::string condition;  ///< what was violated, e.g. "is not finite", "<= 0"
   /// "det F = -0.45 <= 0 at particle 17 (initial position (0.1, 0.2))".
   std::string describe() const;
 };
@@ -45,15 +46,18 @@ inline constexpr double kCollapsedVolumeRatio = 1e-4;
 /// The lowest-index particle with a non-finite position, velocity, F or stress, or det F below
 /// kCollapsedVolumeRatio (<= 0: inverted).
 /// Particles are named with their initial position, which survives re-indexing (splitting).
-std::optional<StateViolation> find_particle_violation(const Particles<2>& particles);
+template <int Dim>
+std::optional<StateViolation> find_particle_violation(const Particles<Dim>& particles);
 
 /// The first of `nodes` whose value in `field` (indexed by node id) is not finite.
-std::optional<StateViolation> find_node_violation(const Grid<2>& grid, std::span<const Index> nodes,
-                                                  std::span<const Vec2> field,
-                                                  const char* field_name);
+template <int Dim>
+std::optional<StateViolation>
+find_node_violation(const Grid<Dim>& grid, std::span<const Index> nodes,
+                    std::span<const Vec<Dim>> field, const char* field_name);
 
 /// With a fixed explicit step dt: the point with the largest Courant number
 /// dt (c_p + |v_p|) / h when that number exceeds 1, the limit the case reader enforces at t = 0.
-std::optional<StateViolation> find_courant_violation(const Scene<2>& scene, double dt);
+template <int Dim>
+std::optional<StateViolation> find_courant_violation(const Scene<Dim>& scene, double dt);
 
 } // namespace talus

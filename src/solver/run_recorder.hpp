@@ -1,0 +1,224 @@
+#pragma once
+// Internal to run_case (src/solver/run.cpp): what a run records while it steps. The frames on
+// the output schedule, timeseries.csv rows, the progress line, and the state guard's stop.
+// Times are the stage's own (from 0 at its start); frames and rows are written at the run's
+// time, the stage's start time plus the stage's time.
+#include "talus/core/scene.hpp"
+#include "talus/io/progress.hpp"
+#include "talus/io/results.hpp"
+#include "talus/post/stress_recovery.hpp"
+#include "talus/post/voxels.hpp"
+#include "talus/solver/energies.hpp"
+#include "talus/solver/state_guard.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <fmt/format.h>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus::run_detail {
+
+template <int Dim> RunMetadata metadata_of(const Scene<Dim>& scene) {
+  const CaseSpec& spec = scene.spec;
+  RunMetadata m;
+  m.case_name = spec.name;
+  m.case_file = spec.source_file;
+  m.case_text = spec.source_text;
+  m.overrides = spec.overrides;
+  m.version = TALUS_VERSION;
+  m.dimension = Dim;
+  m.grid_origin = spec.grid.origin;
+  m.grid_extent = spec.grid.extent;
+  m.cell_size = spec.grid.cell_size;
+  for (const auto& mat : spec.materials)
+    m.material_names.push_back(mat.name);
+  for (const auto& b : spec.bodies)
+    m.body_names.push_back(b.name);
+  return m;
+}
+
+inline bool face_constrained(const BoundarySpec& bc, int face) {
+  return bc[face] != FaceCondition::Free;
+}
+
+/// The components of a vector column: x, y (and z in 3D).
+template <int Dim> std::vector<const char*> axes() {
+  if constexpr (Dim == 3)
+    return {"x", "y", "z"};
+  else
+    return {"x", "y"};
+}
+
+/// The stress components a probe records: the in-plane ones and zz (2D), all six (3D).
+template <int Dim> std::vector<std::pair<int, int>> probe_stress_components() {
+  if constexpr (Dim == 3)
+    return {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
+  else
+    return {{0, 0}, {1, 1}, {0, 1}, {2, 2}};
+}
+
+template <int Dim> std::vector<std::string> timeseries_columns(const Scene<Dim>& scene) {
+  std::vector<std::string> cols = {
+      "time", "step", "dt", "kinetic_energy", "strain_energy", "gravity_energy", "total_energy"};
+  for (const char* a : axes<Dim>())
+    cols.push_back(fmt::format("momentum_{}", a));
+  cols.push_back("particles");
+  if (!scene.spec.stages.empty())
+    cols.push_back("stage"); // 1, 2, ... in the order of the case's stages
+  for (int f = 0; f < face_count(Dim); ++f)
+    if (face_constrained(scene.spec.boundaries, f))
+      for (const char* a : axes<Dim>())
+        cols.push_back(fmt::format("reaction_{}_{}", face_name(f), a));
+  for (const auto& region : scene.spec.prescribed)
+    for (const char* a : axes<Dim>())
+      cols.push_back(fmt::format("reaction_{}_{}", region.name, a));
+  for (const auto& name : scene.probe_names) {
+    for (const char* a : axes<Dim>())
+      cols.push_back(fmt::format("{}.{}", name, a));
+    for (const char* a : axes<Dim>())
+      cols.push_back(fmt::format("{}.v{}", name, a));
+    for (const auto& [i, j] : probe_stress_components<Dim>())
+      cols.push_back(fmt::format("{}.s{}{}", name, "xyz"[i], "xyz"[j]));
+  }
+  return cols;
+}
+
+template <int Dim>
+std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
+                                   const FaceReactions& reactions,
+                                   const std::vector<Vec3>& prescribed, double time, Index step,
+                                   double dt, std::size_t stage) {
+  std::vector<double> row = {time,      static_cast<double>(step),       dt, e.kinetic, e.strain,
+                             e.gravity, e.kinetic + e.strain + e.gravity};
+  for (int d = 0; d < Dim; ++d)
+    row.push_back(e.momentum[d]);
+  row.push_back(static_cast<double>(scene.particles.size()));
+  if (!scene.spec.stages.empty())
+    row.push_back(static_cast<double>(stage + 1));
+  for (int f = 0; f < face_count(Dim); ++f)
+    if (face_constrained(scene.spec.boundaries, f))
+      for (int d = 0; d < Dim; ++d)
+        row.push_back(reactions[static_cast<std::size_t>(f)][d]);
+  for (std::size_t r = 0; r < scene.spec.prescribed.size(); ++r) {
+    const Vec3 f = r < prescribed.size() ? prescribed[r] : Vec3::Zero();
+    for (int d = 0; d < Dim; ++d)
+      row.push_back(f[d]);
+  }
+  const auto& P = scene.particles;
+  for (const Index p : scene.probe_particles) {
+    const auto s = static_cast<std::size_t>(p);
+    for (int d = 0; d < Dim; ++d)
+      row.push_back(P.x[s][d]);
+    for (int d = 0; d < Dim; ++d)
+      row.push_back(P.v[s][d]);
+    for (const auto& [i, j] : probe_stress_components<Dim>())
+      row.push_back(P.stress[s](i, j));
+  }
+  return row;
+}
+
+// What both analyses share while stepping: frames on the output schedule, time-series rows,
+// progress, and the state guard's stop.
+template <int Dim> struct Recorder {
+  const Scene<Dim>& scene;
+  ResultsWriter& writer;
+  TimeSeriesWriter& series;
+  Progress* progress = nullptr; ///< the current stage's progress line
+  double frame_interval = 0;
+  double next_frame_time = 0;
+  double stage_start_time = 0;
+  std::size_t stage = 0; ///< index into the run's stages
+  bool frame_at_current_step = true;
+  Index last_frame_step = 0;
+  double last_frame_time = 0;
+  double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
+  std::optional<StressRecovery<Dim>> recovery{}; ///< made on the first frame, reused after
+  Voxels<Dim> voxels{};
+  std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
+
+  /// Writes the current state as a frame, with the post-processing fields the case asks for:
+  /// they are computed here, on output frames only.
+  void write_frame(Index step, double t) {
+    const OutputSpec& out = scene.spec.output;
+    const auto start = std::chrono::steady_clock::now();
+    FramePost<Dim> post;
+    if (out.stress_recovery) {
+      if (!recovery)
+        recovery.emplace(scene.grid, scene.spec.solver.shape);
+      post.stress = &recovery->recover(scene.particles);
+    }
+    if (out.voxels) {
+      update_voxels<Dim>(scene.particles, scene.grid.origin(),
+                         out.pattern_size.value_or(scene.grid.cell_size()), voxels);
+      post.voxels = &voxels;
+    }
+    post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (std::find(out.fields.begin(), out.fields.end(), OutputField::PlasticStrain) !=
+        out.fields.end()) {
+      plastic_strain.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
+      for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
+      post.plastic_strain = &plastic_strain;
+    }
+    writer.write_frame<Dim>(step, stage_start_time + t, scene.particles, out.fields, post);
+    frame_at_current_step = true;
+    last_frame_step = step;
+    last_frame_time = stage_start_time + t;
+  }
+
+  void begin_stage(std::size_t index, Progress& stage_progress, double interval,
+                   double start_time) {
+    stage = index;
+    progress = &stage_progress;
+    frame_interval = interval;
+    next_frame_time = interval;
+    stage_start_time = start_time;
+  }
+
+  /// The time-series row of the current state at the stage's time t.
+  void append_row(const Energies& e, const FaceReactions& reactions,
+                  const std::vector<Vec3>& prescribed, double t, Index step, double dt) {
+    series.append(timeseries_row<Dim>(scene, e, reactions, prescribed, stage_start_time + t, step,
+                                      dt, stage));
+  }
+
+  /// Stops the run (StateGuardError) when the guard found something; `when` says at which
+  /// point of the step. A bad state is not written: the frames already on disk are the good ones.
+  void stop_if_violated(const std::optional<StateViolation>& violation,
+                        const std::string& when) const {
+    if (violation)
+      throw StateGuardError(
+          fmt::format("state guard: {} {}; the last good frame is frame {} (step {}, t = {:g})",
+                      violation->describe(), when, writer.frames_written() - 1, last_frame_step,
+                      last_frame_time));
+  }
+
+  /// The end of the next step: the end time or the next frame time, whichever comes first.
+  double target(double end_time) const {
+    return frame_interval > 0 ? std::min(end_time, next_frame_time) : end_time;
+  }
+  void after_step(Index step, double t, double dt, const Energies& e,
+                  const FaceReactions& reactions, const std::vector<Vec3>& prescribed,
+                  const std::string& extra) {
+    append_row(e, reactions, prescribed, t, step, dt);
+    const OutputSpec& out = scene.spec.output;
+    frame_at_current_step = false;
+    const bool due =
+        out.every_steps ? (step % *out.every_steps == 0) : (t >= next_frame_time * (1.0 - 1e-12));
+    if (due) {
+      write_frame(step, t);
+      while (frame_interval > 0 && next_frame_time <= t * (1.0 + 1e-12))
+        next_frame_time += frame_interval;
+    }
+    progress->update(step, t, dt, extra);
+  }
+  /// Makes sure the state the run ends in is a frame.
+  void final_frame(Index step, double t) {
+    if (!frame_at_current_step)
+      write_frame(step, t);
+  }
+};
+
+} // namespace talus::run_detail
