@@ -36,7 +36,7 @@ int print_info() {
   };
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
-  fmt::print("dimension       2 (plane strain)\n");
+  fmt::print("dimension       2 (plane strain: every analysis), 3 (explicit analyses)\n");
   fmt::print("analyses        {}\n", words(choice_names(analysis_choices())));
   fmt::print("explicit scheme {}\n", words(choice_names(update_scheme_choices())));
   fmt::print("transfers       {} (solver.flip blends FLIP and PIC)\n",
@@ -81,16 +81,18 @@ int check_command(const std::string& case_file, const std::vector<std::string>& 
   // built when that is quick; a case of gigabytes gets those checks at the start of its run.
   constexpr double kSceneCheckBytes = 1e9;
   if (estimate.total_bytes <= kSceneCheckBytes) {
-    const Scene<2> scene = build_scene<2>(spec);
-    fmt::print("{}: valid case '{}', {} material points\n", case_file, spec.name,
-               scene.particles.size());
+    const Index points = spec.dimension == 3 ? build_scene<3>(spec).particles.size()
+                                             : build_scene<2>(spec).particles.size();
+    fmt::print("{}: valid case '{}', {} material points\n", case_file, spec.name, points);
   } else {
     fmt::print("{}: valid case '{}' (the scene, estimated above {}, is built and checked when "
                "the run starts)\n",
                case_file, spec.name, format_bytes(kSceneCheckBytes));
   }
-  fmt::print("  grid      {:g} x {:g} cells of {:g} m, {:.6g} nodes\n", estimate.cells_x,
-             estimate.cells_y, spec.grid.cell_size, estimate.nodes);
+  fmt::print("  grid      {:g} x {:g}{} cells of {:g} m, {:.6g} nodes\n", estimate.cells_x,
+             estimate.cells_y,
+             spec.dimension == 3 ? fmt::format(" x {:g}", estimate.cells_z) : std::string(),
+             spec.grid.cell_size, estimate.nodes);
   for (std::size_t b = 0; b < spec.bodies.size(); ++b)
     fmt::print("  body      {}: about {:.6g} material points\n", spec.bodies[b].name,
                estimate.body_points[b]);

@@ -24,15 +24,19 @@ namespace {
 // ParticleGridMap, the solvers, PlasticMaterial); tests/unit/test_memory_estimate.cpp compares
 // the sum with the heap a small scene really takes.
 
-/// The always-present per-point arrays of Particles (particles.hpp).
-constexpr double kParticleCore =
-    5 * sizeof(Vec2) + 3 * sizeof(double) + sizeof(Mat2) + sizeof(Mat3) + 2 * sizeof(int);
-/// build_scene: the lattice positions (Vec2) and particles_of_material (Index).
-constexpr double kSceneBuild = sizeof(Vec2) + sizeof(Index);
+/// The always-present per-point arrays of Particles (particles.hpp): five Dim-vectors (x, v,
+/// half-size, x0, point load), mass, volume, volume0, F and stress (3x3 each), material, body.
+constexpr double particle_core(int dims) {
+  return 5 * dims * sizeof(double) + 3 * sizeof(double) + 2 * sizeof(Mat3) + 2 * sizeof(int);
+}
+/// build_scene: the lattice positions (Dim-vectors) and particles_of_material (Index).
+constexpr double scene_build(int dims) {
+  return dims * sizeof(double) + sizeof(Index);
+}
 /// PlasticMaterial: converged and trial history and F, and the return type of each point.
 constexpr double kPlasticState = 2 * sizeof(PlasticHistory) + 2 * sizeof(Mat3) + sizeof(int);
 /// Splitting: F0^-1 and the generation of each point.
-constexpr double kSplitState = sizeof(Mat2) + sizeof(int);
+constexpr double kSplitState = sizeof(Mat3) + sizeof(int);
 /// A frame's largest field buffer (stress, 9 doubles per point) written by the results writer.
 constexpr double kFrameBuffer = 9 * sizeof(double);
 /// The implicit solver's trial state per point (implicit_solver.cpp): trial F (Mat3), dF (Mat2),
@@ -44,8 +48,10 @@ constexpr double kImplicitPoint = sizeof(Mat3) + sizeof(Mat2) + sizeof(StressTan
 /// Per node: Scene's constrained, component_face and node_prescribed, and the map's bins and
 /// active flags (and the counting sort's fill array).
 constexpr double kNodeScene = 1 + 2 + 4 + 2 * sizeof(Index) + 1;
-/// Explicit solver: mass and four Vec2 (momentum, force, velocity, acceleration).
-constexpr double kNodeExplicit = sizeof(double) + 4 * sizeof(Vec2);
+/// Explicit solver: mass and four Dim-vectors (momentum, force, velocity, acceleration).
+constexpr double node_explicit(int dims) {
+  return sizeof(double) + 4 * dims * sizeof(double);
+}
 /// Implicit solver: node mass, DOF numbers, prescribed increments, external and internal forces,
 /// the ghost penalty's flags and moduli, and the owners of the nodes.
 constexpr double kNodeImplicit =
@@ -122,7 +128,10 @@ double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
   return fill * ((cells_in_box - refined_cells) * per_cell + refined_cells * refined_per_cell);
 }
 
-std::size_t stencil_bytes(ShapeFunction shape) {
+std::size_t stencil_bytes(ShapeFunction shape, int dims) {
+  if (dims == 3)
+    return shape == ShapeFunction::Gimp ? sizeof(ParticleGridMap<3, GimpShape>::Stencil)
+                                        : sizeof(ParticleGridMap<3, LinearShape>::Stencil);
   return shape == ShapeFunction::Gimp ? sizeof(ParticleGridMap<2, GimpShape>::Stencil)
                                       : sizeof(ParticleGridMap<2, LinearShape>::Stencil);
 }
@@ -156,9 +165,12 @@ std::string format_bytes(double bytes) {
 }
 
 std::string MemoryEstimate::describe() const {
-  return fmt::format("{} (grid of {:.3g} x {:.3g} cells, {:.3g} nodes: {}; {:.3g} material points: "
+  const std::string cells = cells_z > 1 ? fmt::format("{:.3g} x {:.3g} x {:.3g}", cells_x,
+                                                      cells_y, cells_z)
+                                        : fmt::format("{:.3g} x {:.3g}", cells_x, cells_y);
+  return fmt::format("{} (grid of {} cells, {:.3g} nodes: {}; {:.3g} material points: "
                      "{}{})",
-                     format_bytes(total_bytes), cells_x, cells_y, nodes, format_bytes(grid_bytes),
+                     format_bytes(total_bytes), cells, nodes, format_bytes(grid_bytes),
                      points, format_bytes(point_bytes),
                      matrix_bytes > 0
                          ? "; implicit matrix and factor: " + format_bytes(matrix_bytes)
@@ -168,10 +180,13 @@ std::string MemoryEstimate::describe() const {
 MemoryEstimate estimate_memory(const CaseSpec& spec) {
   MemoryEstimate e;
   const GridSpec& g = spec.grid;
+  const int dims = spec.dimension;
   e.cells_x = std::round(g.extent.x() / g.cell_size);
   e.cells_y = std::round(g.extent.y() / g.cell_size);
+  if (dims == 3)
+    e.cells_z = std::round(g.extent.z() / g.cell_size);
   const double ghosts = 1 + 2 * static_cast<double>(Grid<2>::kGhost);
-  e.nodes = (e.cells_x + ghosts) * (e.cells_y + ghosts);
+  e.nodes = (e.cells_x + ghosts) * (e.cells_y + ghosts) * (dims == 3 ? e.cells_z + ghosts : 1.0);
 
   const bool implicit = any_implicit(spec);
   const bool explicit_stage = any_explicit(spec);
@@ -191,9 +206,10 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
     const double n = body_points(b, g, cells);
     e.body_points.push_back(n);
     e.points += n;
-    // The nodes a body's points touch: its cells as a square block plus the stencil's ring.
-    const double side = std::sqrt(cells);
-    active += (side + 3) * (side + 3);
+    // The nodes a body's points touch: its cells as a square (cubic) block plus the stencil's
+    // ring.
+    const double side = std::pow(cells, 1.0 / dims);
+    active += std::pow(side + 3, dims);
     if (b.split)
       e.split_growth = std::max(e.split_growth, std::exp2(b.split->max_generations));
     if (n > largest) {
@@ -204,10 +220,11 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.active_nodes = std::min(active, e.nodes);
 
   // Per point: what every run has, then what the materials, the map and the solver add.
-  double per_point_grown = kParticleCore + kSceneBuild + (splitting ? kSplitState : 0);
-  double per_point = stencil_bytes(spec.solver.shape) + sizeof(Index) + kFrameBuffer;
+  double per_point_grown =
+      particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0);
+  double per_point = stencil_bytes(spec.solver.shape, dims) + sizeof(Index) + kFrameBuffer;
   if (explicit_stage && apic)
-    per_point += sizeof(Mat2) + sizeof(Vec2);
+    per_point += dims * dims * sizeof(double) + dims * sizeof(double);
   if (implicit)
     per_point += kImplicitPoint + (dynamic ? sizeof(Vec2) : 0);
   double plastic_points = 0;
@@ -221,7 +238,7 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
 
   e.grid_bytes = e.nodes * kNodeScene + e.active_nodes * sizeof(Index);
   if (explicit_stage)
-    e.grid_bytes += e.nodes * kNodeExplicit;
+    e.grid_bytes += e.nodes * node_explicit(dims);
   if (implicit) {
     e.grid_bytes += e.nodes * kNodeImplicit;
     // The tangent: each unknown couples with the unknowns of the nodes that share a point with

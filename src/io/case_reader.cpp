@@ -119,9 +119,27 @@ AnalysisType Validator::analysis(const Item& it) const {
 
 int Validator::dimension(const Item& it) const {
   const Index d = integer(it);
-  if (d != 2)
-    fail(it, "only 2 (plane strain) is supported (got " + std::to_string(d) + ")");
-  return 2;
+  if (d != 2 && d != 3)
+    fail(it, "must be 2 (plane strain) or 3 (got " + std::to_string(d) + ")");
+  return static_cast<int>(d);
+}
+
+// A 3D case runs the explicit solver; the implicit one (Newton, its assembly, F-bar, the ghost
+// penalty) and with it strength reduction are two-dimensional in this version.
+void Validator::check_3d_analyses(const Map& top, const CaseSpec& spec) const {
+  if (spec.dimension != 3)
+    return;
+  constexpr const char* kWhy = "the implicit analyses are two-dimensional in this version: a "
+                               "3D case runs analysis: explicit";
+  if (spec.stages.empty() && spec.analysis != AnalysisType::Explicit)
+    fail(top["analysis"], kWhy);
+  for (const StageSpec& stage : spec.stages)
+    if (stage.analysis != AnalysisType::Explicit)
+      throw InputError(stage.where, std::string("stage '") + stage.name + "': " + kWhy);
+  if (top.present("strength_reduction"))
+    fail(top.key("strength_reduction"),
+         "strength reduction runs the implicit quasi-static solver, which is two-dimensional in "
+         "this version");
 }
 
 GridSpec Validator::grid(const Item& it) const {
@@ -191,7 +209,9 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.stages = stages(top["stages"], spec);
     spec.analysis = spec.stages.front().analysis;
     spec.time = spec.stages.front().time;
+    check_3d_analyses(top, spec);
   } else {
+    check_3d_analyses(top, spec);
     const Item time_item = top.required("time");
     spec.time = time(time_item);
     check_time_step(time_item, spec.analysis, spec.time, spec);
@@ -255,7 +275,8 @@ void Validator::check_memory(const Map& top, const CaseSpec& spec) const {
                               : body.particles_per_cell;
     const double share = estimate.point_bytes * estimate.body_points[b] / estimate.points;
     const bool fewer_points_fit =
-        estimate.total_bytes - share * (1.0 - 1.0 / (n * n)) <= machine.total_bytes;
+        estimate.total_bytes - share * (1.0 - 1.0 / std::pow(n, spec.dimension)) <=
+        machine.total_bytes;
     const YAML::Node node = list(top["bodies"])[b].node;
     const std::string key = estimate.driver_key.substr(estimate.driver_key.find('.') + 1);
     if (fewer_points_fit && key == "particles_per_cell" && node["particles_per_cell"])

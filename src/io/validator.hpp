@@ -351,7 +351,9 @@ public:
     const YAML::Node& n = it.node;
     if (!n.IsSequence() || n.size() != static_cast<std::size_t>(dimension_))
       fail(it, "expected " + point_list() + " of numbers or expressions of the position, got " +
-                   describe(n));
+                   (n.IsSequence()
+                        ? fmt::format("a list of {} element{}", n.size(), n.size() == 1 ? "" : "s")
+                        : describe(n)));
     values.setZero();
     for (std::size_t i = 0; i < n.size(); ++i) {
       const Item element{n[i], mark_or(n[i], it.mark), child_path(it.path, i)};
@@ -424,6 +426,7 @@ private:
   std::string case_name(const Item& it) const;
   AnalysisType analysis(const Item& it) const;
   int dimension(const Item& it) const;
+  void check_3d_analyses(const Map& top, const CaseSpec& spec) const;
   GridSpec grid(const Item& it) const;
   std::vector<MaterialSpec> materials(const Item& it) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;

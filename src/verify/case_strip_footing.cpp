@@ -113,9 +113,9 @@ VerificationCase strip_footing() {
       checks.push_back(
           at_most_check("Newton iterations per step to the peak, median", its[its.size() / 2], 8.0,
                         fmt::format("{} load steps; quadratic convergence", its.size())));
-      checks.push_back(at_most_check("Newton iterations per step to the peak, maximum", its.back(),
-                                     30.0,
-                                     "first step: plain Newton abandoned after 11, then line search"));
+      checks.push_back(
+          at_most_check("Newton iterations per step to the peak, maximum", its.back(), 30.0,
+                        "first step: plain Newton abandoned after 11, then line search"));
     }
     write_curve_csv(ctx.out_dir / "load_settlement.csv", curve);
     if (ctx.tier == "full")

@@ -10,6 +10,8 @@ VerificationCase vibrating_bar();
 VerificationCase vibrating_bar_implicit();
 VerificationCase colliding_discs();
 VerificationCase rigid_translation();
+VerificationCase rigid_translation_3d();
+VerificationCase colliding_spheres();
 VerificationCase rigid_rotation();
 VerificationCase cantilever();
 VerificationCase self_weight_column();

@@ -19,6 +19,8 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::vibrating_bar_implicit(),
                                                       verify_cases::colliding_discs(),
                                                       verify_cases::rigid_translation(),
+                                                      verify_cases::rigid_translation_3d(),
+                                                      verify_cases::colliding_spheres(),
                                                       verify_cases::rigid_rotation(),
                                                       verify_cases::cantilever(),
                                                       verify_cases::self_weight_column(),

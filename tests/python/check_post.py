@@ -6,10 +6,10 @@
 For the last frame of run.h5 (h5py), and the last time step of run.xmf read by VTK's XDMF
 readers (vtkXdmfReader, ParaView's "XDMF Reader", and vtkXdmf3Reader where available):
 
-* voxels: N quadrilateral cells of 4 points each, point coordinates equal to
+* voxels: N quadrilateral cells of 4 points each (3D: hexahedra of 8), point coordinates equal to
   /frames/K/voxels/corners, cell arrays stress, stress_smoothed, checker, stripes_horizontal,
   stripes_vertical (checker equal to run.h5);
-* grid: (nodes_x x nodes_y) points on the lattice of /frames/K/grid (origin and spacing), point
+* grid: (nodes_x x nodes_y [x nodes_z]) points on the lattice of /frames/K/grid (origin and spacing), point
   arrays mass and stress, the mass equal to run.h5 node by node (x fastest).
 
 Exits 0 when everything matches, 1 with a message otherwise (a missing reader is a failure).
@@ -68,11 +68,13 @@ def check_reader(name, reader_class, xmf, h5):
 
     if voxels.GetNumberOfCells() != n:
         fail(f"{name}: voxel block has {voxels.GetNumberOfCells()} cells, expected {n}")
+    dim = h5["dimension"]
+    corners, cell_type = (8, 12) if dim == 3 else (4, 9)  # VTK_HEXAHEDRON, VTK_QUAD
     for c in range(voxels.GetNumberOfCells()):
         cell = voxels.GetCell(c)
-        if cell.GetNumberOfPoints() != 4 or cell.GetCellType() != 9:  # VTK_QUAD
-            fail(f"{name}: voxel {c} is not a quadrilateral")
-    pts = vtk_to_numpy(voxels.GetPoints().GetData())[:, :2]
+        if cell.GetNumberOfPoints() != corners or cell.GetCellType() != cell_type:
+            fail(f"{name}: voxel {c} is not a {'hexahedron' if dim == 3 else 'quadrilateral'}")
+    pts = vtk_to_numpy(voxels.GetPoints().GetData())[:, :dim]
     if not np.array_equal(pts, h5["corners"]):
         fail(f"{name}: voxel points differ from voxels/corners")
     cell_arrays = arrays(voxels.GetCellData())
@@ -83,26 +85,31 @@ def check_reader(name, reader_class, xmf, h5):
     if not np.array_equal(vtk_to_numpy(cell_arrays["checker"]), h5["checker"]):
         fail(f"{name}: voxel 'checker' differs from run.h5")
 
-    nx, ny = h5["nodes"]
-    if grid.GetNumberOfPoints() != nx * ny:
-        fail(f"{name}: grid block has {grid.GetNumberOfPoints()} points, expected {nx} x {ny}")
+    nodes = h5["nodes"]  # x, y (and z)
+    count = int(np.prod(nodes))
+    if grid.GetNumberOfPoints() != count:
+        fail(f"{name}: grid block has {grid.GetNumberOfPoints()} points, expected "
+             f"{' x '.join(map(str, nodes))}")
     bounds = grid.GetBounds()
-    want = (h5["origin"][0], h5["origin"][0] + (nx - 1) * h5["spacing"],
-            h5["origin"][1], h5["origin"][1] + (ny - 1) * h5["spacing"])
-    if not np.allclose(bounds[:4], want, rtol=0, atol=1e-12 * max(1.0, max(map(abs, want)))):
-        fail(f"{name}: grid bounds {bounds[:4]}, expected {want}")
+    want = []
+    for d, n in enumerate(nodes):
+        want += [h5["origin"][d], h5["origin"][d] + (n - 1) * h5["spacing"]]
+    got = bounds[:2 * dim]
+    if not np.allclose(got, want, rtol=0, atol=1e-12 * max(1.0, max(map(abs, want)))):
+        fail(f"{name}: grid bounds {got}, expected {want}")
     point_arrays = arrays(grid.GetPointData())
-    print(f"{name}: grid point arrays {sorted(point_arrays)}, bounds {bounds[:4]}")
+    print(f"{name}: grid point arrays {sorted(point_arrays)}, bounds {got}")
     for a in GRID_ARRAYS:
         if a not in point_arrays:
             fail(f"{name}: grid point array '{a}' missing (found {sorted(point_arrays)})")
     # Point order of a structured grid: x fastest, like grid/mass.
     if not np.array_equal(vtk_to_numpy(point_arrays["mass"]), h5["mass"]):
         fail(f"{name}: grid 'mass' differs from run.h5")
-    xy = np.array([grid.GetPoint(i)[:2] for i in range(grid.GetNumberOfPoints())])
-    lattice = h5["origin"] + h5["spacing"] * np.stack(
-        np.meshgrid(np.arange(nx), np.arange(ny)), axis=-1).reshape(-1, 2)
-    if not np.allclose(xy, lattice, rtol=0, atol=1e-12):
+    xyz = np.array([grid.GetPoint(i)[:dim] for i in range(grid.GetNumberOfPoints())])
+    # x fastest: the index of axis 0 changes first.
+    index = np.indices(nodes[::-1]).reshape(dim, -1)[::-1].T
+    lattice = h5["origin"] + h5["spacing"] * index
+    if not np.allclose(xyz, lattice, rtol=0, atol=1e-12):
         fail(f"{name}: grid point coordinates are not the lattice of run.h5 (x fastest)")
 
 
@@ -117,12 +124,17 @@ def main():
     with h5py.File(os.path.join(d, "run.h5"), "r") as f:
         last = sorted(f["frames"].keys())[-1]
         g = f["frames"][last]
+        dim = int(f["metadata"].attrs["dimension"])
+        nodes = [int(g["grid"].attrs["nodes_x"]), int(g["grid"].attrs["nodes_y"])]
+        if dim == 3:
+            nodes.append(int(g["grid"].attrs["nodes_z"]))
         h5 = {
+            "dimension": dim,
             "n": g["position"].shape[0],
             "corners": g["voxels/corners"][()],
             "checker": g["voxels/checker"][()],
             "mass": g["grid/mass"][()].ravel(),
-            "nodes": (int(g["grid"].attrs["nodes_x"]), int(g["grid"].attrs["nodes_y"])),
+            "nodes": nodes,
             "origin": g["grid"].attrs["origin"],
             "spacing": float(g["grid"].attrs["spacing"]),
         }

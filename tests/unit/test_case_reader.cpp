@@ -583,8 +583,12 @@ TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {
       with(kCase, "analysis: explicit", "analysis: static"),
       {"case.yaml", 2, 11, "analysis",
        "unknown value 'static' (allowed: explicit, implicit_quasistatic, implicit_dynamic)"});
+  expect_error(with(kCase, "dimension: 2", "dimension: 1"),
+               {"case.yaml", 3, 12, "dimension", "must be 2 (plane strain) or 3 (got 1)"});
+  // A 3D case reads its points with three components: this 2D file's grid fails first.
   expect_error(with(kCase, "dimension: 2", "dimension: 3"),
-               {"case.yaml", 3, 12, "dimension", "only 2 (plane strain) is supported (got 3)"});
+               {"case.yaml", 5, 11, "grid.origin",
+                "expected a 3-element list [x, y, z] (dimension: 3), got a list of 2 elements"});
 }
 
 TEST(CaseReaderErrors, DuplicateNames) {

@@ -14,8 +14,8 @@
 namespace talus {
 
 struct MemoryEstimate {
-  double cells_x = 0, cells_y = 0; ///< grid cells per axis
-  double nodes = 0;                ///< grid nodes, ghost layers included
+  double cells_x = 0, cells_y = 0, cells_z = 1; ///< grid cells per axis (cells_z 1 in 2D)
+  double nodes = 0;                             ///< grid nodes, ghost layers included
   double active_nodes = 0;         ///< nodes touched by the points (implicit unknowns / 2)
   std::vector<double> body_points; ///< initial material points of each body
   double points = 0;               ///< all bodies

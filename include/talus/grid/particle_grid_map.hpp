@@ -42,7 +42,7 @@ public:
       const Vec<Dim>& x = particles.x[s];
       if (!grid.inside(x))
         throw NumericalError(
-            fmt::format("particle {} left the grid: position ({:g}, {:g})", p, x[0], x[1]));
+            fmt::format("particle {} left the grid: position ({:g})", p, fmt::join(x, ", ")));
       Stencil& st = stencils_[s];
       for (int d = 0; d < Dim; ++d) {
         const double xr = x[d] - grid.origin()[d];
