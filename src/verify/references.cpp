@@ -108,11 +108,12 @@ double vibrating_bar_rms_error(const CsvTable& series, double total_mass) {
   return std::sqrt(sum / static_cast<double>(t.size())) / amplitude;
 }
 
-std::vector<std::string> vibrating_bar_overrides(int n) {
+std::vector<std::string> vibrating_bar_overrides(int n, int dimension) {
   const double h = kBarLength / n;
+  const std::string depth = dimension == 3 ? fmt::format(", {:.17g}", h) : "";
   return {fmt::format("grid.cell_size={:.17g}", h),
-          fmt::format("grid.extent=[{:.17g}, {:.17g}]", kBarLength + 2 * h, h),
-          fmt::format("bodies.bar.max=[{:.17g}, {:.17g}]", kBarLength, h)};
+          fmt::format("grid.extent=[{:.17g}, {:.17g}{}]", kBarLength + 2 * h, h, depth),
+          fmt::format("bodies.bar.max=[{:.17g}, {:.17g}{}]", kBarLength, h, depth)};
 }
 
 } // namespace talus::references

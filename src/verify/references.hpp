@@ -57,7 +57,8 @@ constexpr double kBarLength = 25.0, kBarYoung = 100.0, kBarDensity = 1.0, kBarV0
 /// belongs to t - dt/2 (the initial stress is zero, so the start needs no shift).
 double vibrating_bar_rms_error(const CsvTable& series, double total_mass);
 
-/// Overrides for n cells along the bar, one cell high, two spare cells beyond the free end.
-std::vector<std::string> vibrating_bar_overrides(int n);
+/// Overrides for n cells along the bar, one cell high (and, in 3D, one cell deep), two spare
+/// cells beyond the free end.
+std::vector<std::string> vibrating_bar_overrides(int n, int dimension = 2);
 
 } // namespace talus::references
