@@ -124,24 +124,6 @@ int Validator::dimension(const Item& it) const {
   return static_cast<int>(d);
 }
 
-// A 3D case runs the explicit solver; the implicit one (Newton, its assembly, F-bar, the ghost
-// penalty) and with it strength reduction are two-dimensional in this version.
-void Validator::check_3d_analyses(const Map& top, const CaseSpec& spec) const {
-  if (spec.dimension != 3)
-    return;
-  constexpr const char* kWhy = "the implicit analyses are two-dimensional in this version: a "
-                               "3D case runs analysis: explicit";
-  if (spec.stages.empty() && spec.analysis != AnalysisType::Explicit)
-    fail(top["analysis"], kWhy);
-  for (const StageSpec& stage : spec.stages)
-    if (stage.analysis != AnalysisType::Explicit)
-      throw InputError(stage.where, std::string("stage '") + stage.name + "': " + kWhy);
-  if (top.present("strength_reduction"))
-    fail(top.key("strength_reduction"),
-         "strength reduction runs the implicit quasi-static solver, which is two-dimensional in "
-         "this version");
-}
-
 GridSpec Validator::grid(const Item& it) const {
   const Map m(*this, it, {"origin", "extent", "cell_size"});
   GridSpec g;
@@ -209,9 +191,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.stages = stages(top["stages"], spec);
     spec.analysis = spec.stages.front().analysis;
     spec.time = spec.stages.front().time;
-    check_3d_analyses(top, spec);
   } else {
-    check_3d_analyses(top, spec);
     const Item time_item = top.required("time");
     spec.time = time(time_item);
     check_time_step(time_item, spec.analysis, spec.time, spec);

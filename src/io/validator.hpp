@@ -426,7 +426,6 @@ private:
   std::string case_name(const Item& it) const;
   AnalysisType analysis(const Item& it) const;
   int dimension(const Item& it) const;
-  void check_3d_analyses(const Map& top, const CaseSpec& spec) const;
   GridSpec grid(const Item& it) const;
   std::vector<MaterialSpec> materials(const Item& it) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;

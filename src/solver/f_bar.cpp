@@ -6,14 +6,14 @@
 
 namespace talus {
 
-void FBarCells::build(const Grid<2>& grid, const Particles<2>& particles) {
+template <int Dim> void FBarCells::build(const Grid<Dim>& grid, const Particles<Dim>& particles) {
   const auto np = static_cast<std::size_t>(particles.size());
   const double h = grid.cell_size();
   // Lattice cell of every point; a point exactly on the far boundary belongs to the last cell.
   std::vector<Index> lattice(np);
   for (std::size_t p = 0; p < np; ++p) {
     Index flat = 0;
-    for (int d = 1; d >= 0; --d) {
+    for (int d = Dim - 1; d >= 0; --d) {
       const double s = (particles.x[p][d] - grid.origin()[d]) / h;
       const Index i = std::clamp<Index>(static_cast<Index>(std::floor(s)), 0, grid.cells(d) - 1);
       flat = flat * grid.cells(d) + i;
@@ -48,10 +48,7 @@ void FBarCells::build(const Grid<2>& grid, const Particles<2>& particles) {
   }
 }
 
-void FBarCells::average(const std::vector<double>& j, std::vector<double>& j_bar) const {
-  j_bar.assign(static_cast<std::size_t>(cell_count()), 0.0);
-  for (std::size_t p = 0; p < j.size(); ++p)
-    j_bar[static_cast<std::size_t>(cell_of_[p])] += weight_[p] * j[p];
-}
+template void FBarCells::build<2>(const Grid<2>&, const Particles<2>&);
+template void FBarCells::build<3>(const Grid<3>&, const Particles<3>&);
 
 } // namespace talus

@@ -4,74 +4,135 @@
 
 namespace talus {
 
-const GhostPenalty::FaceMatrix& GhostPenalty::face_matrix() {
+template <int Dim> const typename GhostPenalty<Dim>::FaceMatrix& GhostPenalty<Dim>::face_matrix() {
   static const FaceMatrix matrix = [] {
     const Eigen::Vector3d d(-1.0, 2.0, -1.0);
     Eigen::Matrix2d M;
     M << 1.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0, 1.0 / 3.0;
+    // The tangential mass matrix M (x) ... (x) M, Dim - 1 factors.
+    Eigen::Matrix<double, kTangentialNodes, kTangentialNodes> T;
+    for (int t = 0; t < kTangentialNodes; ++t)
+      for (int u = 0; u < kTangentialNodes; ++u) {
+        double v = 1.0;
+        for (int axis = 0; axis < Dim - 1; ++axis)
+          v *= M((t >> axis) & 1, (u >> axis) & 1);
+        T(t, u) = v;
+      }
     const Eigen::Matrix3d ddT = d * d.transpose();
     FaceMatrix G;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
-        G.block<2, 2>(2 * a, 2 * b) = ddT(a, b) * M;
+        G.template block<kTangentialNodes, kTangentialNodes>(kTangentialNodes * a,
+                                                             kTangentialNodes * b) = ddT(a, b) * T;
     return G;
   }();
   return matrix;
 }
 
-void GhostPenalty::build(const Grid<2>& grid, const std::vector<char>& node_active,
-                         const std::vector<double>& node_modulus, double gamma) {
+template <int Dim>
+void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& node_active,
+                              const std::vector<double>& node_modulus, double gamma) {
   faces_.clear();
   if (gamma <= 0.0)
     return;
-  // Cells are indexed by their lower-left node in physical lattice coordinates, from the ghost
-  // layer (-1) to the last physical cell: cx = nodes(0) - 1 of them along x.
-  const Index cx = grid.nodes(0) - 1, cy = grid.nodes(1) - 1;
-  const Index g = Grid<2>::kGhost;
-  auto node = [&](Index i, Index j) { return grid.node_id({i - g, j - g}); };
-  auto cell = [&](Index i, Index j) { return static_cast<std::size_t>(j * cx + i); };
-  cell_active_.assign(static_cast<std::size_t>(cx * cy), 0);
-  for (Index j = 0; j < cy; ++j)
-    for (Index i = 0; i < cx; ++i)
-      cell_active_[cell(i, j)] = node_active[static_cast<std::size_t>(node(i, j))] &&
-                                 node_active[static_cast<std::size_t>(node(i + 1, j))] &&
-                                 node_active[static_cast<std::size_t>(node(i, j + 1))] &&
-                                 node_active[static_cast<std::size_t>(node(i + 1, j + 1))];
-  auto active = [&](Index i, Index j) {
-    return i >= 0 && j >= 0 && i < cx && j < cy && cell_active_[cell(i, j)];
+  // Cells are indexed by their lowest node in physical lattice coordinates shifted by the ghost
+  // layer, from the ghost layer (0) to the last physical cell: nodes(d) - 1 of them along d.
+  using Cell = std::array<Index, Dim>;
+  Cell cells{};
+  Index cell_count = 1;
+  for (int d = 0; d < Dim; ++d) {
+    cells[d] = grid.nodes(d) - 1;
+    cell_count *= cells[d];
+  }
+  auto flat = [&](const Cell& c) {
+    Index id = 0;
+    for (int d = Dim - 1; d >= 0; --d)
+      id = id * cells[d] + c[d];
+    return static_cast<std::size_t>(id);
+  };
+  auto unflat = [&](Index id) {
+    Cell c{};
+    for (int d = 0; d < Dim; ++d) {
+      c[d] = id % cells[d];
+      id /= cells[d];
+    }
+    return c;
+  };
+  // The node at the cell c's corner shifted by `offset` (one lattice step per set bit, axis 0
+  // the lowest bit).
+  auto node = [&](Cell c, unsigned offset) {
+    for (int d = 0; d < Dim; ++d)
+      c[d] += static_cast<Index>((offset >> d) & 1u) - Grid<Dim>::kGhost;
+    return grid.node_id(c);
+  };
+  auto is_active = [&](std::size_t n) { return node_active[n] != 0; };
+  cell_active_.assign(static_cast<std::size_t>(cell_count), 0);
+  for (Index id = 0; id < cell_count; ++id) {
+    const Cell c = unflat(id);
+    bool all = true;
+    for (unsigned corner = 0; corner < (1u << Dim) && all; ++corner)
+      all = is_active(static_cast<std::size_t>(node(c, corner)));
+    cell_active_[static_cast<std::size_t>(id)] = all;
+  }
+  auto active = [&](const Cell& c) {
+    for (int d = 0; d < Dim; ++d)
+      if (c[d] < 0 || c[d] >= cells[d])
+        return false;
+    return cell_active_[flat(c)] != 0;
   };
   cell_in_band_.assign(cell_active_.size(), 0);
-  for (Index j = 0; j < cy; ++j)
-    for (Index i = 0; i < cx; ++i) {
-      if (!active(i, j))
-        continue;
-      bool band = false;
-      for (Index dj = -1; dj <= 1 && !band; ++dj)
-        for (Index di = -1; di <= 1 && !band; ++di)
-          band = !active(i + di, j + dj);
-      cell_in_band_[cell(i, j)] = band;
+  int neighbours = 1; // 3^Dim offsets in {-1, 0, 1}^Dim
+  for (int d = 0; d < Dim; ++d)
+    neighbours *= 3;
+  for (Index id = 0; id < cell_count; ++id) {
+    const Cell c = unflat(id);
+    if (!active(c))
+      continue;
+    bool band = false;
+    for (int k = 0; k < neighbours && !band; ++k) {
+      Cell n = c;
+      for (int d = 0, rest = k; d < Dim; ++d, rest /= 3)
+        n[d] += rest % 3 - 1;
+      band = !active(n);
     }
+    cell_in_band_[static_cast<std::size_t>(id)] = band;
+  }
 
-  auto add_face = [&](const std::array<Index, kFaceNodes>& nodes) {
-    double modulus = 0;
-    for (const Index n : nodes)
-      modulus = std::max(modulus, node_modulus[static_cast<std::size_t>(n)]);
-    faces_.push_back({nodes, gamma * modulus});
-  };
-  for (Index j = 0; j < cy; ++j)
-    for (Index i = 0; i < cx; ++i) {
-      if (!active(i, j))
+  const double h_power = Dim == 3 ? grid.cell_size() : 1.0; // h^(Dim - 2)
+  for (Index id = 0; id < cell_count; ++id) {
+    const Cell c = unflat(id);
+    if (!active(c))
+      continue;
+    const bool band = cell_in_band_[static_cast<std::size_t>(id)];
+    for (int normal = 0; normal < Dim; ++normal) {
+      Cell ahead = c;
+      ++ahead[normal];
+      if (!active(ahead) || !(band || cell_in_band_[flat(ahead)]))
         continue;
-      const bool band = cell_in_band_[cell(i, j)];
-      // The face to the right: node columns i, i+1, i+2 along the normal, rows j, j+1 along it.
-      if (active(i + 1, j) && (band || cell_in_band_[cell(i + 1, j)]))
-        add_face({node(i, j), node(i, j + 1), node(i + 1, j), node(i + 1, j + 1), node(i + 2, j),
-                  node(i + 2, j + 1)});
-      // The face above: node rows j, j+1, j+2 along the normal, columns i, i+1 along it.
-      if (active(i, j + 1) && (band || cell_in_band_[cell(i, j + 1)]))
-        add_face({node(i, j), node(i + 1, j), node(i, j + 1), node(i + 1, j + 1), node(i, j + 2),
-                  node(i + 1, j + 2)});
+      // Layers c, c + e_normal, c + 2 e_normal along the normal; the corners of the face along
+      // the other axes, the lowest of them fastest.
+      Face face;
+      for (int layer = 0; layer < 3; ++layer)
+        for (unsigned t = 0; t < static_cast<unsigned>(kTangentialNodes); ++t) {
+          unsigned offset = 0;
+          for (int axis = 0, bit = 0; axis < Dim; ++axis)
+            if (axis != normal)
+              offset |= ((t >> bit++) & 1u) << axis;
+          Cell base = c;
+          base[normal] += layer;
+          face.nodes[static_cast<std::size_t>(kTangentialNodes * layer + static_cast<int>(t))] =
+              node(base, offset);
+        }
+      double modulus = 0;
+      for (const Index n : face.nodes)
+        modulus = std::max(modulus, node_modulus[static_cast<std::size_t>(n)]);
+      face.stiffness = gamma * modulus * h_power;
+      faces_.push_back(face);
     }
+  }
 }
+
+template class GhostPenalty<2>;
+template class GhostPenalty<3>;
 
 } // namespace talus

@@ -1,4 +1,5 @@
 #include "talus/solver/implicit_solver.hpp"
+#include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
@@ -29,10 +30,11 @@ constexpr double kRoundOffFloor = 100.0;
 
 using Clock = std::chrono::steady_clock;
 
-template <class Shape> class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
-  static constexpr int Dim = 2;
+template <int Dim, class Shape>
+class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
   using V = Vec<Dim>;
   using M = Mat<Dim>;
+  using Ghost = GhostPenalty<Dim>;
 
 public:
   ImplicitSolverImpl(Scene<Dim>& scene, double prescribed_fraction_reached)
@@ -205,7 +207,7 @@ public:
     for (Index p = share.begin; p < share.end; ++p)
       map_.for_each_node_of(p, [&](Index n, double, const V&) { nodes.push_back(n); });
     for (const auto& face : ghost_.faces())
-      if (node_owner[at(face_anchor(face))] == share.index)
+      if (node_owner[at(Ghost::anchor(face))] == share.index)
         nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
@@ -235,9 +237,7 @@ private:
   double newmark_acceleration(Index dof, double du) const {
     return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
   }
-  Index dof_of(Index node, int a) const { return node_dof_[at(2 * node + a)]; }
-  /// The face's first node on the face itself: the share owning it assembles the face.
-  static Index face_anchor(const GhostPenalty::Face& face) { return face.nodes[2]; }
+  Index dof_of(Index node, int a) const { return node_dof_[at(Dim * node + a)]; }
 
   /// The local DOF of component a of node n in the share's map; refuses a node outside it.
   static Index local_dof(const DofMap& map, Index n, int a) {
@@ -255,15 +255,15 @@ private:
   /// ones as zero).
   template <class F>
   void for_each_ghost_force(const DofMap& map, const Eigen::VectorXd& du, F&& f) const {
-    const auto& G = GhostPenalty::face_matrix();
+    const auto& G = Ghost::face_matrix();
     for (const auto& face : ghost_.faces()) {
-      if (!map.owns_node(face_anchor(face)))
+      if (!map.owns_node(Ghost::anchor(face)))
         continue;
-      Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> u;
-      for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+      Eigen::Matrix<double, Ghost::kFaceNodes, Dim> u;
+      for (int k = 0; k < Ghost::kFaceNodes; ++k)
         u.row(k) = node_increment(map, face.nodes[at(k)], du).transpose();
-      const Eigen::Matrix<double, GhostPenalty::kFaceNodes, Dim> forces = face.stiffness * G * u;
-      for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+      const Eigen::Matrix<double, Ghost::kFaceNodes, Dim> forces = face.stiffness * G * u;
+      for (int k = 0; k < Ghost::kFaceNodes; ++k)
         for (int a = 0; a < Dim; ++a)
           f(face.nodes[at(k)], a, forces(k, a));
     }
@@ -274,7 +274,7 @@ private:
     V u;
     for (int a = 0; a < Dim; ++a) {
       const Index dof = local_dof(map, n, a);
-      u[a] = dof >= 0 ? du[dof] : prescribed_du_[at(2 * n + a)];
+      u[a] = dof >= 0 ? du[dof] : prescribed_du_[at(Dim * n + a)];
     }
     return u;
   }
@@ -312,7 +312,7 @@ private:
   }
 
   // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's DOFs,
-  // B mapping the nodal increments to grad(du) (row 2a+b: du_a/dx_b) and A = dG/d(dF) the
+  // B mapping the nodal increments to grad(du) (row Dim a + b: du_a/dx_b) and A = dG/d(dF) the
   // step tangent; the ghost-penalty face blocks, per component; the Newmark mass of its owned
   // DOFs.
   void assemble_tangent(const ParticleShare& share, const DofMap& map, SparseAssembler& tangent) {
@@ -333,7 +333,7 @@ private:
       });
       // B has one gradient per column (rows Dim c .. Dim c + Dim - 1 of column (j, c)) and per
       // row of B^T, so both products take Dim terms per entry instead of Dim^2.
-      const Eigen::Matrix<double, 4, 4> A = f_bar_ ? f_bar_step_tangent(s) : step_tangent(s);
+      const StepTangent<Dim> A = point_step_tangent(s);
       for (int j = 0; j < kNodes; ++j)
         for (int c = 0; c < Dim; ++c)
           AB.col(Dim * j + c) = A.template middleCols<Dim>(Dim * c) * grads.col(j);
@@ -346,14 +346,14 @@ private:
     }
     if (f_bar_)
       add_f_bar_cell_coupling(share, map, tangent);
-    const auto& G = GhostPenalty::face_matrix();
-    std::array<Index, GhostPenalty::kFaceNodes> face_dofs{};
+    const auto& G = Ghost::face_matrix();
+    std::array<Index, Ghost::kFaceNodes> face_dofs{};
     for (const auto& face : ghost_.faces()) {
-      if (!map.owns_node(face_anchor(face)))
+      if (!map.owns_node(Ghost::anchor(face)))
         continue;
-      const GhostPenalty::FaceMatrix K = face.stiffness * G;
+      const typename Ghost::FaceMatrix K = face.stiffness * G;
       for (int a = 0; a < Dim; ++a) {
-        for (int k = 0; k < GhostPenalty::kFaceNodes; ++k)
+        for (int k = 0; k < Ghost::kFaceNodes; ++k)
           face_dofs[at(k)] = local_dof(map, face.nodes[at(k)], a);
         tangent.add_block(face_dofs, K);
       }
@@ -379,9 +379,9 @@ private:
       heaviest = std::max(heaviest, m);
     }
     if (!scene_.spec.prescribed.empty())
-      locate_prescribed_nodes<2>(scene_, ramp_committed_);
-    node_dof_.assign(2 * nn, -1);
-    prescribed_du_.assign(2 * nn, 0.0);
+      locate_prescribed_nodes<Dim>(scene_, ramp_committed_);
+    node_dof_.assign(Dim * nn, -1);
+    prescribed_du_.assign(Dim * nn, 0.0);
     dof_count_ = 0;
     for (const Index n : map_.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
@@ -391,13 +391,13 @@ private:
         if (region >= 0) {
           const auto& value = scene_.spec.prescribed[at(region)].displacement[at(a)];
           if (value) {
-            prescribed_du_[at(2 * n + a)] = (ramp_end - ramp_committed_) * *value;
+            prescribed_du_[at(Dim * n + a)] = (ramp_end - ramp_committed_) * *value;
             continue;
           }
         }
         if (node_mass_[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
           continue;
-        node_dof_[at(2 * n + a)] = dof_count_++;
+        node_dof_[at(Dim * n + a)] = dof_count_++;
       }
     }
     prepare_ghost_penalty(heaviest);
@@ -429,18 +429,18 @@ private:
       }
     }
     external_.setZero(static_cast<Eigen::Index>(dof_count_));
-    full_external_.assign(2 * nn, 0.0);
+    full_external_.assign(Dim * nn, 0.0);
     const V g = head<Dim>(scene_.spec.gravity);
     force_scale_ = 0;
     for (Index p = 0; p < P.size(); ++p) {
       const V f = lambda_end * P.external_force[at(p)] +
                   (gravity_ramped_ ? lambda_end : 1.0) * P.mass[at(p)] * g;
-      force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
+      force_scale_ = std::max(force_scale_, f.template lpNorm<Eigen::Infinity>());
       map_.for_each_node_of(p, [&](Index n, double w, const V&) { add_external(n, w * f); });
     }
     for (const SurfaceLoad<Dim>& load : scene_.surface_loads) {
       const V f = (load.constant ? 1.0 : lambda_end) * load.force;
-      force_scale_ = std::max(force_scale_, f.lpNorm<Eigen::Infinity>());
+      force_scale_ = std::max(force_scale_, f.template lpNorm<Eigen::Infinity>());
       for_each_surface_load_node<Dim>(scene_.grid, P, load, map_.stencil(load.particle).start,
                                       Shape::kWidth,
                                       [&](Index n, double w) { add_external(n, w * f); });
@@ -493,7 +493,7 @@ private:
 
   void add_external(Index n, const V& f) {
     for (int a = 0; a < Dim; ++a) {
-      full_external_[at(2 * n + a)] += f[a];
+      full_external_[at(Dim * n + a)] += f[a];
       if (const Index dof = dof_of(n, a); dof >= 0)
         external_[dof] += f[a];
     }
@@ -542,29 +542,14 @@ private:
            state_du_.size() == du.size() && state_du_ == du;
   }
 
-  // d(tau dF^-T)/d(dF) restricted to the in-plane components, 4x4 with index 2a+b:
-  //   dG_ab/ddF_cd = sum_q dtau_aq/ddF_cd dFinv_bq - sum_q tau_aq dFinv_bc dFinv_dq,
-  //   dtau_aq/ddF_cd = sum_m dtau_aq/dF_cm Fn_dm.
-  Eigen::Matrix<double, 4, 4> step_tangent(std::size_t s) const {
-    const auto& P = scene_.particles;
-    const Mat3 dFinv = embedded<Dim>(trial_dF_[s]).inverse();
-    const Mat3& Fn = P.F[s];
-    const StressTangent& st = response_[s];
-    Eigen::Matrix<double, 4, 4> A = Eigen::Matrix<double, 4, 4>::Zero();
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c)
-          for (int d = 0; d < 2; ++d) {
-            double v = 0;
-            for (int q = 0; q < 3; ++q) {
-              double dtau = 0;
-              for (int m = 0; m < 3; ++m)
-                dtau += st.dtau_dF(3 * a + q, 3 * c + m) * Fn(d, m);
-              v += dtau * dFinv(b, q) - st.kirchhoff(a, q) * dFinv(b, c) * dFinv(d, q);
-            }
-            A(2 * a + b, 2 * c + d) = v;
-          }
-    return A;
+  /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar, and
+  /// f_bar_H_[s] receives dG/dJ_bar.
+  StepTangent<Dim> point_step_tangent(std::size_t s) {
+    const Mat3& Fn = scene_.particles.F[s];
+    if (!f_bar_)
+      return step_tangent<Dim>(trial_dF_[s], Fn, response_[s]);
+    const double j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))];
+    return f_bar_step_tangent<Dim>(trial_dF_[s], Fn, response_[s], trial_j_[s], j_bar, f_bar_H_[s]);
   }
 
   // --- F-bar (f_bar.hpp) ---------------------------------------------------------------------
@@ -585,7 +570,7 @@ private:
     }
   }
 
-  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/2)
+  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/Dim)
   /// dF_p; false if a point or a cell average has lost its volume (j <= 0).
   bool apply_f_bar(const ParticleShare& share) {
     const auto& P = scene_.particles;
@@ -600,7 +585,8 @@ private:
       const double j = trial_j_[at(p)], j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(p))];
       if (!(j > 0 && j_bar > 0))
         return false;
-      trial_F_[at(p)] = embedded<Dim>(M(std::sqrt(j_bar / j) * trial_dF_[at(p)])) * P.F[at(p)];
+      trial_F_[at(p)] =
+          embedded<Dim>(M(f_bar_scale<Dim>(j_bar / j) * trial_dF_[at(p)])) * P.F[at(p)];
     }
     return true;
   }
@@ -609,54 +595,6 @@ private:
   double volume_ratio(std::size_t s) const {
     return f_bar_ ? trial_j_[s] / cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))]
                   : 1.0;
-  }
-
-  // The F-bar step tangent of G = (j / J_bar) tau(dF_bar F_n) dF^-T at fixed J_bar (4x4, index
-  // 2a+b as step_tangent), and in f_bar_H_[s] its derivative dG/dJ_bar at fixed dF. With
-  // r = j / J_bar, k = (J_bar / j)^(1/2), D_aq,cd = sum_m dtau_aq/dF_cm Fn_dm, E_aq = D_aq:dF:
-  //   dG_ab/ddF_cd = r [dFinv_dc G'_ab + k sum_q (D_aq,cd - dFinv_dc E_aq / 2) dFinv_bq
-  //                     - sum_q tau_aq dFinv_bc dFinv_dq],           G' = tau dF^-T,
-  //   dG_ab/dJ_bar = -G_ab / J_bar + r k / (2 J_bar) sum_q E_aq dFinv_bq.
-  Eigen::Matrix<double, 4, 4> f_bar_step_tangent(std::size_t s) {
-    const auto& P = scene_.particles;
-    const M& dF = trial_dF_[s];
-    const Mat3 dFinv = embedded<Dim>(dF).inverse();
-    const Mat3& Fn = P.F[s];
-    const StressTangent& st = response_[s];
-    const double j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))];
-    const double r = trial_j_[s] / j_bar, k = std::sqrt(j_bar / trial_j_[s]);
-    Eigen::Matrix<double, 6, 4> D; // row 3a+q, column 2c+d
-    for (int a = 0; a < 2; ++a)
-      for (int q = 0; q < 3; ++q)
-        for (int c = 0; c < 2; ++c)
-          for (int d = 0; d < 2; ++d) {
-            double v = 0;
-            for (int m = 0; m < 3; ++m)
-              v += st.dtau_dF(3 * a + q, 3 * c + m) * Fn(d, m);
-            D(3 * a + q, 2 * c + d) = v;
-          }
-    const Eigen::Vector4d dF_flat(dF(0, 0), dF(0, 1), dF(1, 0), dF(1, 1));
-    const Eigen::Matrix<double, 6, 1> E = D * dF_flat;
-    const Mat3 G_prime = st.kirchhoff * dFinv.transpose();
-    Eigen::Matrix<double, 4, 4> A;
-    M H;
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) {
-        double e_term = 0;
-        for (int q = 0; q < 3; ++q)
-          e_term += E(3 * a + q) * dFinv(b, q);
-        H(a, b) = -r * G_prime(a, b) / j_bar + r * k / (2 * j_bar) * e_term;
-        for (int c = 0; c < 2; ++c)
-          for (int d = 0; d < 2; ++d) {
-            double v = dFinv(d, c) * G_prime(a, b);
-            for (int q = 0; q < 3; ++q)
-              v += k * (D(3 * a + q, 2 * c + d) - 0.5 * dFinv(d, c) * E(3 * a + q)) * dFinv(b, q) -
-                   st.kirchhoff(a, q) * dFinv(b, c) * dFinv(d, q);
-            A(2 * a + b, 2 * c + d) = r * v;
-          }
-      }
-    f_bar_H_[s] = H;
-    return A;
   }
 
   // The coupling of the points of a cell through J_bar_c, one rank-one block u v^T per cell of
@@ -725,7 +663,7 @@ private:
       map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
         const V f = G2 * grad;
         for (int a = 0; a < Dim; ++a)
-          internal[at(2 * n + a)] += f[a];
+          internal[at(Dim * n + a)] += f[a];
         dx += w * node_increment(serial_map_, n, du);
       });
       const Mat3& F = trial_F_[s];
@@ -744,7 +682,7 @@ private:
           for (int c = 0; c < Dim; ++c) {
             const Index dof = dof_of(n, c);
             if (dof < 0) {
-              v_grid[c] += w * prescribed_du_[at(2 * n + c)] / dt;
+              v_grid[c] += w * prescribed_du_[at(Dim * n + c)] / dt;
               continue;
             }
             const double a_new = newmark_acceleration(dof, du[dof]);
@@ -763,7 +701,7 @@ private:
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
     for_each_ghost_force(serial_map_, du,
-                         [&](Index n, int a, double f) { internal[at(2 * n + a)] += f; });
+                         [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
     for (const Index n : map_.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
@@ -772,16 +710,16 @@ private:
       for (int a = 0; a < Dim; ++a)
         if (is_prescribed(n, a))
           prescribed_reactions_[at(region)][a] +=
-              internal[at(2 * n + a)] - full_external_[at(2 * n + a)];
+              internal[at(Dim * n + a)] - full_external_[at(Dim * n + a)];
     }
     for (auto& r : reactions_)
       r.setZero();
     for (const Index n : map_.active_nodes())
       for (int a = 0; a < Dim; ++a)
-        if (const int face = scene_.component_face[at(2 * n + a)];
+        if (const int face = scene_.component_face[at(Dim * n + a)];
             face >= 0 && !is_prescribed(n, a))
           reactions_[static_cast<std::size_t>(face)][a] +=
-              internal[at(2 * n + a)] - full_external_[at(2 * n + a)];
+              internal[at(Dim * n + a)] - full_external_[at(Dim * n + a)];
   }
 
   bool is_prescribed(Index n, int a) const {
@@ -795,7 +733,7 @@ private:
   std::vector<double> node_mass_;
   std::vector<Index> node_dof_;
   std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
-  GhostPenalty ghost_;
+  Ghost ghost_;
   std::vector<char> node_active_;    ///< per node: carries mass this step (ghost penalty)
   std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)
   Index dof_count_ = 0;
@@ -836,12 +774,20 @@ private:
   Eigen::MatrixXd cell_block_;          ///< u v^T of the cell being coupled
 };
 
+template <int Dim> struct ImplicitIn {
+  template <class Shape> using Solver = ImplicitSolverImpl<Dim, Shape>;
+};
+
 } // namespace
 
-std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene,
+template <int Dim>
+std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<Dim>& scene,
                                                      double prescribed_fraction_reached) {
-  return make_for_shape<ImplicitSolver, ImplicitSolverImpl>(scene.spec.solver.shape, scene,
-                                                            prescribed_fraction_reached);
+  return make_for_shape<ImplicitSolver, ImplicitIn<Dim>::template Solver>(
+      scene.spec.solver.shape, scene, prescribed_fraction_reached);
 }
+
+template std::unique_ptr<ImplicitSolver> make_implicit_solver<2>(Scene<2>&, double);
+template std::unique_ptr<ImplicitSolver> make_implicit_solver<3>(Scene<3>&, double);
 
 } // namespace talus

@@ -183,8 +183,9 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
 /// residual history goes to newton.log. A failure at the minimum step ends the run after
 /// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
 /// the stage's pseudo-time (the first stage); otherwise they act in full.
-void run_implicit(Scene<2>& scene, Recorder<2>& rec, LoopState& s, RunResult& result,
-                  const fs::path& out_dir, StageWatch& watch, StageStrength<2>& strength,
+template <int Dim>
+void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
+                  const fs::path& out_dir, StageWatch& watch, StageStrength<Dim>& strength,
                   bool loads_ramp) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
   result.linear_solver = solver->linear_solver();
@@ -434,10 +435,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
       if (stage.analysis == AnalysisType::Explicit) {
         strength.at(1.0);
         run_explicit(scene, recorder, state, result, watch);
-      } else if constexpr (Dim == 2) {
-        run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
       } else {
-        throw std::logic_error("an implicit 3D stage got past the case reader");
+        run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
       }
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);

@@ -50,7 +50,7 @@ namespace {
 
 double cantilever_error(const fs::path& run_dir) {
   double x = 0;
-  const Vec2 u = references::tip_column_displacement(ResultsReader(run_dir / "run.h5"), &x);
+  const Vec3 u = references::tip_column_displacement(ResultsReader(run_dir / "run.h5"), &x);
   return std::abs(u.y() / references::cantilever_deflection(x, 1.0) - 1.0);
 }
 

@@ -88,7 +88,7 @@ VerificationCase cantilever() {
       const auto dir = ctx.out_dir / fmt::format("linear_{}cells", n);
       run_quiet(spec, dir, ctx.threads);
       double x = 0;
-      const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+      const Vec3 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
       const double reference = references::cantilever_deflection(x, 1.0);
       // Scaled to the tip, so that the three resolutions (whose tip columns sit at L - h/4)
       // compare one quantity.
@@ -118,7 +118,7 @@ VerificationCase cantilever() {
       const auto dir = ctx.out_dir / fmt::format("elastica_alpha_{:g}", alpha);
       const RunResult run = run_quiet(large, dir, ctx.threads);
       double x = 0;
-      const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+      const Vec3 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
       const references::Elastica ref = references::elastica(alpha, x / kBeamLength);
       const std::string note = fmt::format("L/D = {:g}, 8 cells/depth, Hencky, {} load steps",
                                            alpha < 1 ? 8.0 : 16.0, steps);

@@ -57,7 +57,7 @@ VerificationCase stability_incompressibility() {
         const auto dir = ctx.out_dir / fmt::format("nu_{:g}{}", nu, f_bar ? "_fbar" : "");
         run_quiet(load_verification_case(ctx, overrides), dir, ctx.threads);
         double x = 0;
-        const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+        const Vec3 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
         const double ratio = u.y() / plane_strain_deflection(x, 1.0, nu);
         const std::string quantity =
             fmt::format("{}nu = {:g}: deflection / reference", f_bar ? "F-bar, " : "", nu);

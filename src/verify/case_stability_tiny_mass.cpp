@@ -114,7 +114,7 @@ VerificationCase stability_tiny_mass() {
       const auto dir = ctx.out_dir / fmt::format("implicit_reach_{:g}", reach);
       const RunResult r = run_quiet(spec, dir, ctx.threads);
       double x = 0;
-      const Vec2 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
+      const Vec3 u = references::tip_column_displacement(ResultsReader(dir / "run.h5"), &x);
       const std::string at =
           fmt::format("implicit, reach {:g} h (weight {:g})", reach, reach * reach);
       checks.push_back(relative_check(at + ": tip deflection", u.y(),

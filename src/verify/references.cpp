@@ -6,22 +6,25 @@
 
 namespace talus::references {
 
-double cantilever_deflection(double x, double P) {
+double cantilever_deflection(double x, double P, double nu) {
   return -P / (6.0 * kBeamYoung * kBeamInertia) *
-         (kBeamDepth * kBeamDepth * x + (3.0 * kBeamLength - x) * x * x);
+         ((4.0 + 5.0 * nu) / 4.0 * kBeamDepth * kBeamDepth * x + (3.0 * kBeamLength - x) * x * x);
 }
 
-Vec2 tip_column_displacement(const ResultsReader& results, double* tip_x) {
+Vec3 tip_column_displacement(const ResultsReader& results, double* tip_x) {
   Index rows = 0, cols = 0;
   const auto x0 = results.read(0, "position", &rows, &cols);
   const auto x1 = results.read(results.frame_count() - 1, "position", &rows, &cols);
-  auto at = [](const std::vector<double>& xy, Index p) {
-    return Vec2(xy[static_cast<std::size_t>(2 * p)], xy[static_cast<std::size_t>(2 * p + 1)]);
+  auto at = [cols](const std::vector<double>& x, Index p) {
+    Vec3 v = Vec3::Zero();
+    for (Index d = 0; d < cols; ++d)
+      v[d] = x[static_cast<std::size_t>(cols * p + d)];
+    return v;
   };
   double xmax = -1e300;
   for (Index p = 0; p < rows; ++p)
     xmax = std::max(xmax, at(x0, p).x());
-  Vec2 sum = Vec2::Zero();
+  Vec3 sum = Vec3::Zero();
   int n = 0;
   for (Index p = 0; p < rows; ++p)
     if (std::abs(at(x0, p).x() - xmax) < 1e-9) {
@@ -87,7 +90,7 @@ std::vector<std::string> large_deflection_overrides(double alpha, int steps, int
 
 double large_deflection_error(const ResultsReader& results, double alpha) {
   double x = 0;
-  const Vec2 u = tip_column_displacement(results, &x);
+  const Vec3 u = tip_column_displacement(results, &x);
   const Elastica ref = elastica(alpha, x / kBeamLength);
   return std::max(std::abs(-u.x() / kBeamLength / ref.u_over_L - 1.0),
                   std::abs(-u.y() / kBeamLength / ref.v_over_L - 1.0));

@@ -14,13 +14,16 @@ namespace talus::references {
 constexpr double kBeamLength = 8.0, kBeamDepth = 1.0, kBeamYoung = 3e5,
                  kBeamInertia = kBeamDepth * kBeamDepth * kBeamDepth / 12.0;
 
-/// Timoshenko & Goodier for nu = 0 (no y dependence), tip shear P (positive down):
-/// u_y(x) = -P / (6 E I) (D^2 x + (3L - x) x^2).
-double cantilever_deflection(double x, double P);
+/// Timoshenko & Goodier's cantilever (plane stress) on its axis y = 0, tip shear P (positive
+/// down): u_y(x) = -P / (6 E I) ((4 + 5 nu) D^2 x / 4 + (3L - x) x^2). At the tip (x = L) the
+/// term 3 nu y^2 (L - x) that varies over the depth vanishes, so this is also the mean over the
+/// end section; for nu = 0 the deflection of every fibre. Per unit thickness, and for a beam
+/// of square section D x D with P the resultant.
+double cantilever_deflection(double x, double P, double nu = 0.0);
 
 /// Mean displacement of the points of the last column (largest initial x) between the first
-/// and the last frame; *tip_x receives that column's initial x.
-Vec2 tip_column_displacement(const ResultsReader& results, double* tip_x);
+/// and the last frame (z = 0 in 2D); *tip_x receives that column's initial x.
+Vec3 tip_column_displacement(const ResultsReader& results, double* tip_x);
 
 /// The elastica of the cantilever under a dead tip load P L^2 / (E I) = alpha (inextensible,
 /// shear-rigid): theta'' = -alpha cos(theta) on s in [0, 1], theta(0) = 0, theta'(1) = 0,

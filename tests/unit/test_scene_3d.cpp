@@ -72,10 +72,6 @@ TEST(Scene3d, ReaderRefusesWhatTheDimensionCannotHold) {
   expect_refused(with("shape: box, min: [0.1, 0.1, 0.1], max: [0.5, 0.3, 0.6]",
                       "shape: sphere, centre: [0.5, 0.5, 0.5], radius: 0.6"),
                  "body 'block' extends outside the grid: the sphere covers");
-  expect_refused(with("analysis", "analysis",
-                      with("name: solid", "name: solid\nanalysis: "
-                                          "implicit_quasistatic")),
-                 "the implicit analyses are two-dimensional in this version");
   expect_refused(with("shape: box, min: [0.1, 0.1, 0.1], max: [0.5, 0.3, 0.6]",
                       "shape: prism, vertices: [[0.1, 0.1], [0.5, 0.1], [0.3, 0.4]], z_min: 0.5, "
                       "z_max: 0.2"),

@@ -7,7 +7,8 @@
 // per cell: the volume change of a step is averaged over the points of the cell,
 //   J_bar_c = sum_q w_q j_q,   j_q = det dF_q,   w_q = v_q / sum_{q in c} v_q,
 // and each point's step gradient keeps its own isochoric part with the cell's volume change,
-//   dF_bar_p = (J_bar_c / j_p)^(1/2) dF_p   (in-plane block: plane strain fixes F33 = 1).
+//   dF_bar_p = (J_bar_c / j_p)^(1/Dim) dF_p   (in 2D the in-plane block: plane strain fixes
+// F33 = 1, so det dF_p is the in-plane determinant).
 // The stress is tau(dF_bar F_n); the internal force keeps the true current volume,
 //   f_i = sum_p V0_p (j_p / J_bar_c) tau_p dF_p^-T grad N_i(x_p^n),
 // and its tangent gains a rank-one coupling per cell through J_bar_c (implicit_solver.cpp).
@@ -22,7 +23,7 @@ namespace talus {
 class FBarCells {
 public:
   /// Groups the points by cell at their current positions; weights from current volumes.
-  void build(const Grid<2>& grid, const Particles<2>& particles);
+  template <int Dim> void build(const Grid<Dim>& grid, const Particles<Dim>& particles);
 
   Index cell_count() const { return static_cast<Index>(begin_.size()) - 1; }
   /// Points of cell c: points()[begin(c) .. end(c)).
@@ -32,9 +33,6 @@ public:
   Index cell_of(Index p) const { return cell_of_[static_cast<std::size_t>(p)]; }
   /// v_p / (total volume of p's cell).
   double weight(Index p) const { return weight_[static_cast<std::size_t>(p)]; }
-
-  /// The cell averages J_bar_c = sum_q w_q j_q of the per-point values j (per cell).
-  void average(const std::vector<double>& j, std::vector<double>& j_bar) const;
 
 private:
   std::vector<Index> begin_{0}; ///< CSR offsets into points_, one more than the cells

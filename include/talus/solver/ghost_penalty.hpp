@@ -14,17 +14,18 @@
 // are untouched, and the penalty is consistent to the order of the Q1 grid field) and gives
 // every node of a stabilised face a stiffness of order gamma E however little material it sees.
 //
-// Which faces: those between two active cells (all four nodes carry mass) where at least one of
-// the two lies in the boundary band, i.e. has an inactive cell among its eight neighbours.
-// This is a topological test, independent of how much a cell is compressed or stretched
-// (a volume-fraction test would also fire inside a compressed body).
+// Which faces: those between two active cells (all 2^Dim nodes carry mass) where at least one
+// of the two lies in the boundary band, i.e. has an inactive cell among its 3^Dim - 1
+// neighbours. This is a topological test, independent of how much a cell is compressed or
+// stretched (a volume-fraction test would also fire inside a compressed body).
 //
 // On a regular grid the face integral is closed form. For a face with normal along axis d,
-// the bilinear basis's normal derivative jumps by (1/h) [-1, 2, -1] across the three node
-// layers (behind, on, ahead of the face) times the tangential hat (1 - eta, eta), so the face
-// matrix over its six nodes is
-//     G_face = gamma E (d d^T) (x) M,   d = [-1, 2, -1],   M = [[1/3, 1/6], [1/6, 1/3]],
-// acting on each displacement component alike; it is independent of h in 2D.
+// the multilinear basis's normal derivative jumps by (1/h) [-1, 2, -1] across the three node
+// layers (behind, on, ahead of the face) times the face's tangential hats, whose mass matrix
+// is h^(Dim-1) M^(x)(Dim-1), M = [[1/3, 1/6], [1/6, 1/3]]. So the face matrix over its
+// 3 * 2^(Dim-1) nodes is
+//     G_face = gamma E h^(Dim-2) (d d^T) (x) M^(x)(Dim-1),   d = [-1, 2, -1],
+// acting on each displacement component alike: independent of h in 2D, growing with h in 3D.
 #include "talus/grid/grid.hpp"
 
 #include <array>
@@ -32,13 +33,15 @@
 
 namespace talus {
 
-class GhostPenalty {
+template <int Dim> class GhostPenalty {
 public:
-  static constexpr int kFaceNodes = 6;
+  static constexpr int kTangentialNodes = 1 << (Dim - 1);
+  static constexpr int kFaceNodes = 3 * kTangentialNodes;
   using FaceMatrix = Eigen::Matrix<double, kFaceNodes, kFaceNodes>;
 
-  /// A stabilised face: its six nodes, ordered (normal layer 0..2) x (tangential 0..1) so that
-  /// index 2 * layer + t matches face_matrix(), and gamma times the modulus there.
+  /// A stabilised face: its nodes, ordered (normal layer 0..2) x (tangential corner, the lower
+  /// tangential axis fastest) so that index kTangentialNodes * layer + t matches face_matrix(),
+  /// and gamma E h^(Dim-2) there.
   struct Face {
     std::array<Index, kFaceNodes> nodes{};
     double stiffness = 0;
@@ -47,12 +50,15 @@ public:
   /// Finds the stabilised faces. node_active[n]: node n carries mass this step;
   /// node_modulus[n]: the largest Young's modulus among the points that reach node n;
   /// gamma: the dimensionless penalty factor (0 switches stabilisation off).
-  void build(const Grid<2>& grid, const std::vector<char>& node_active,
+  void build(const Grid<Dim>& grid, const std::vector<char>& node_active,
              const std::vector<double>& node_modulus, double gamma);
 
   const std::vector<Face>& faces() const { return faces_; }
-  /// (d d^T) (x) M, the face matrix for unit stiffness.
+  /// (d d^T) (x) M^(x)(Dim-1), the face matrix for unit stiffness.
   static const FaceMatrix& face_matrix();
+  /// The face's first node on the face itself (layer 1, corner 0): in a run split into shares,
+  /// the share owning it assembles the face.
+  static Index anchor(const Face& face) { return face.nodes[kTangentialNodes]; }
 
 private:
   std::vector<Face> faces_;

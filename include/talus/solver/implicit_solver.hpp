@@ -9,6 +9,8 @@
 // and f_int,i = sum_p V0_p tau_p dF_p^-T grad N_i(x_p^n), whose derivative contains both the
 // material and the geometric (initial-stress) stiffness.
 //
+// The dimension is the scene's: plane strain (Dim = 2, F33 = 1) or 3D, one source for both.
+//
 // Assembly by shares: R and K are sums of terms that each belong to one share of the points
 // (ParticleShare), assembled on the share's overlapping DOF map (DofMap) in local ids:
 //   - its points' internal forces and tangent blocks K_p = V0 B^T A B;
@@ -58,7 +60,7 @@ public:
   /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
   /// step's start, the global DOF numbering (unknowns() of them), node masses and loads.
   virtual void prepare(double lambda_end, double ramp_end, double dt) = 0;
-  /// The global DOF of component a of grid node n at 2 n + a, negative for none (held,
+  /// The global DOF of component a of grid node n at Dim n + a, negative for none (held,
   /// prescribed or massless).
   virtual std::span<const Index> global_node_dofs() const = 0;
   /// Per grid node, the share that owns it: the lowest-indexed share whose points reach it;
@@ -82,7 +84,8 @@ public:
 
 /// `prescribed_fraction_reached`: the fraction of the prescribed displacements already applied
 /// (a later stage of a staged analysis starts at 1: the regions hold their final position).
-std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<2>& scene,
+template <int Dim>
+std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<Dim>& scene,
                                                      double prescribed_fraction_reached = 0.0);
 
 } // namespace talus
