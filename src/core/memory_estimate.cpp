@@ -39,11 +39,13 @@ constexpr double kPlasticState = 2 * sizeof(PlasticHistory) + 2 * sizeof(Mat3) +
 constexpr double kSplitState = sizeof(Mat3) + sizeof(int);
 /// A frame's largest field buffer (stress, 9 doubles per point) written by the results writer.
 constexpr double kFrameBuffer = 9 * sizeof(double);
-/// The implicit solver's trial state per point (implicit_solver.cpp): trial F (Mat3), dF (Mat2),
-/// the stress and its tangent, det dF, F-bar's H, and FBarCells' point lists.
-constexpr double kImplicitPoint = sizeof(Mat3) + sizeof(Mat2) + sizeof(StressTangent) +
-                                  sizeof(double) + sizeof(Mat2) + 3 * sizeof(Index) +
-                                  sizeof(double);
+/// The implicit solver's trial state per point (implicit_solver.cpp): trial F (Mat3), dF
+/// (Dim x Dim), the stress and its tangent, det dF, F-bar's H (Dim x Dim), FBarCells' point
+/// lists, and the tangent structure's stencil list.
+constexpr double implicit_point(int dims) {
+  return sizeof(Mat3) + 2 * dims * dims * sizeof(double) + sizeof(StressTangent) + sizeof(double) +
+         5 * sizeof(Index) + sizeof(double);
+}
 
 /// Per node: Scene's constrained, component_face and node_prescribed, and the map's bins and
 /// active flags (and the counting sort's fill array).
@@ -52,10 +54,16 @@ constexpr double kNodeScene = 1 + 2 + 4 + 2 * sizeof(Index) + 1;
 constexpr double node_explicit(int dims) {
   return sizeof(double) + 4 * dims * sizeof(double);
 }
-/// Implicit solver: node mass, DOF numbers, prescribed increments, external and internal forces,
-/// the ghost penalty's flags and moduli, and the owners of the nodes.
-constexpr double kNodeImplicit =
-    sizeof(double) + 2 * sizeof(Index) + 3 * 2 * sizeof(double) + 1 + sizeof(double) + sizeof(int);
+/// Implicit solver: node mass, Dim DOF numbers, prescribed increments, external and internal
+/// forces per node, the ghost penalty's flags and moduli, the owners of the nodes, and the
+/// lattice assembler's and F-bar's node slots.
+constexpr double node_implicit(int dims) {
+  return sizeof(double) + dims * (sizeof(Index) + 3 * sizeof(double)) + 1 + sizeof(double) +
+         3 * sizeof(int) + sizeof(Index);
+}
+/// The sparse Cholesky / LU factor of a 3D grid's tangent with nested dissection: about this
+/// many entries times n^(4/3) (n unknowns); measured with CHOLMOD on the 3D cantilever.
+constexpr double kFactorFill3d = 10.0;
 
 /// std::vector grows by doubling when points are appended one by one: the capacity it ends
 /// with is the next power of two.
@@ -165,13 +173,13 @@ std::string format_bytes(double bytes) {
 }
 
 std::string MemoryEstimate::describe() const {
-  const std::string cells = cells_z > 1 ? fmt::format("{:.3g} x {:.3g} x {:.3g}", cells_x,
-                                                      cells_y, cells_z)
-                                        : fmt::format("{:.3g} x {:.3g}", cells_x, cells_y);
+  const std::string cells = cells_z > 1
+                                ? fmt::format("{:.3g} x {:.3g} x {:.3g}", cells_x, cells_y, cells_z)
+                                : fmt::format("{:.3g} x {:.3g}", cells_x, cells_y);
   return fmt::format("{} (grid of {} cells, {:.3g} nodes: {}; {:.3g} material points: "
                      "{}{})",
-                     format_bytes(total_bytes), cells, nodes, format_bytes(grid_bytes),
-                     points, format_bytes(point_bytes),
+                     format_bytes(total_bytes), cells, nodes, format_bytes(grid_bytes), points,
+                     format_bytes(point_bytes),
                      matrix_bytes > 0
                          ? "; implicit matrix and factor: " + format_bytes(matrix_bytes)
                          : std::string());
@@ -220,13 +228,12 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.active_nodes = std::min(active, e.nodes);
 
   // Per point: what every run has, then what the materials, the map and the solver add.
-  double per_point_grown =
-      particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0);
+  double per_point_grown = particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0);
   double per_point = stencil_bytes(spec.solver.shape, dims) + sizeof(Index) + kFrameBuffer;
   if (explicit_stage && apic)
     per_point += dims * dims * sizeof(double) + dims * sizeof(double);
   if (implicit)
-    per_point += kImplicitPoint + (dynamic ? sizeof(Vec2) : 0);
+    per_point += implicit_point(dims) + (dynamic ? dims * sizeof(double) : 0);
   double plastic_points = 0;
   for (std::size_t i = 0; i < spec.bodies.size(); ++i) {
     const auto m = static_cast<std::size_t>(spec.bodies[i].material_index);
@@ -240,25 +247,24 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   if (explicit_stage)
     e.grid_bytes += e.nodes * node_explicit(dims);
   if (implicit) {
-    e.grid_bytes += e.nodes * kNodeImplicit;
+    e.grid_bytes += e.nodes * node_implicit(dims);
     // The tangent: each unknown couples with the unknowns of the nodes that share a point with
-    // it (5 x 5 nodes with GIMP, 3 x 3 with linear hats), 2 per node; values and indices, held
-    // by the matrix and by the assembler's recorded contributions. The sparse factor of a 2D
-    // mesh with nested dissection holds about 8 n log2(n) entries (George 1973).
-    const double dofs = 2 * e.active_nodes;
-    const double row = spec.solver.shape == ShapeFunction::Gimp ? 50 : 18;
-    const double entry = sizeof(double) + sizeof(int);
-    const double factor_entries = 8 * dofs * std::log2(std::max(2.0, dofs));
-    // The assembler records each point's dense block (2 W^2 unknowns squared, W = 3 with GIMP,
-    // 2 with linear hats) with its slot in the matrix, and the block's unknowns and incidences
-    // (sparse_assembler.hpp); the recorded values grow by push_back.
+    // it (2W - 1 nodes per direction, W = 3 with GIMP, 2 with linear hats; with F-bar the
+    // nodes that share a cell's points, 2W + 1), Dim per node; values and indices, held by
+    // the assembler's matrix and by the linear solver's copy. The lattice assembler adds a
+    // table of (2R + 1)^Dim ints per active node, R the widest coupling (lattice_assembler.hpp).
+    // The sparse factor with nested dissection holds about 8 n log2(n) entries on a 2D mesh
+    // (George 1973) and about FACTOR n^(4/3) on a 3D one (measured, see below).
+    const double dofs = dims * e.active_nodes;
     const double w = spec.solver.shape == ShapeFunction::Gimp ? 3 : 2;
-    const double block_dofs = 2 * w * w;
-    const double block = block_dofs * block_dofs;
-    const double assembly =
-        grown(e.points * block) * sizeof(double) + e.points * block * sizeof(int) +
-        grown(e.points * block_dofs) * sizeof(Index) + e.points * block_dofs * 2 * sizeof(int);
-    e.matrix_bytes = dofs * row * entry * 3 + factor_entries * entry + assembly;
+    const double reach = spec.solver.f_bar ? w : w - 1;
+    const double coupled_nodes = std::pow(2 * reach + 1, dims);
+    const double row = dims * coupled_nodes;
+    const double entry = sizeof(double) + sizeof(int);
+    const double factor_entries = dims == 2 ? 8 * dofs * std::log2(std::max(2.0, dofs))
+                                            : kFactorFill3d * std::pow(dofs, 4.0 / 3.0);
+    const double tables = e.active_nodes * coupled_nodes * sizeof(int);
+    e.matrix_bytes = dofs * row * entry * 2 + factor_entries * entry + tables;
   }
   e.total_bytes = e.grid_bytes + e.point_bytes + e.matrix_bytes;
 

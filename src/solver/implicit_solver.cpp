@@ -1,10 +1,11 @@
 #include "talus/solver/implicit_solver.hpp"
+#include "f_bar_step.hpp"
 #include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/linalg/lattice_assembler.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/shape/shape_functions.hpp"
-#include "talus/solver/f_bar.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
 #include <algorithm>
@@ -141,8 +142,8 @@ public:
     trial_F_.resize(np, Mat3::Identity());
     trial_dF_.resize(np, M::Identity());
     response_.resize(np);
-    trial_j_.resize(np, 1.0);
-    f_bar_H_.resize(np, M::Zero());
+    if (f_bar_)
+      f_bar_step_.resize(static_cast<Index>(np));
     state_valid_ = false; // the cached trial state belonged to the old point set
   }
 
@@ -155,20 +156,13 @@ public:
   }
 
   const SparseMatrix& jacobian(const Eigen::VectorXd& du) override {
-    assembler_.begin(dof_count_, /*new_structure=*/!structure_recorded_);
-    if (!assemble_share(whole_, serial_map_, du, nullptr, &assembler_))
+    if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
-    structure_recorded_ = true;
-    const SparseMatrix& K = assembler_.finish();
     // Within a step the connectivity is fixed; a new step keeps the symbolic factorisation
-    // when its pattern happens to match the last analysed one.
-    if (assembler_.recorded()) {
-      pattern_changed_ = !same_sparsity_pattern(K, previous_pattern_);
-      if (pattern_changed_)
-        previous_pattern_ = K;
-    } else {
-      pattern_changed_ = false;
-    }
+    // when its structure happens to match the last analysed one.
+    bool built = false;
+    const SparseMatrix& K = share_tangent(whole_, serial_map_, built);
+    pattern_changed_ = built && !share_tangents_[0].assembler.same_structure_as_before();
     return K;
   }
 
@@ -220,15 +214,17 @@ public:
 
   bool assemble_share(const ParticleShare& share, const DofMap& map,
                       const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
-                      SparseAssembler* tangent) override {
+                      SparseMatrix* tangent) override {
     if (f_bar_)
-      require_whole_cells(share);
+      f_bar_step_.require_whole_cells(share);
     if (!state_matches(share, du_overlap) && !update_trial_state(share, map, du_overlap))
       return false;
     if (residual)
       assemble_residual(share, map, du_overlap, *residual);
-    if (tangent)
-      assemble_tangent(share, map, *tangent);
+    if (tangent) {
+      bool built = false;
+      *tangent = share_tangent(share, map, built);
+    }
     return true;
   }
 
@@ -311,26 +307,70 @@ private:
     });
   }
 
-  // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's DOFs,
+  /// The share's tangent at the trial state: its sparsity structure built at the first call
+  /// of a step for this share (`built`), then only the values.
+  const SparseMatrix& share_tangent(const ParticleShare& share, const DofMap& map, bool& built) {
+    if (share_tangents_.size() <= at(share.index))
+      share_tangents_.resize(at(share.index) + 1);
+    ShareTangent& t = share_tangents_[at(share.index)];
+    built = t.step != step_count_ || t.begin != share.begin || t.end != share.end ||
+            t.assembler.size() != map.overlap_count();
+    if (built) {
+      build_tangent_structure(share, map, t.assembler);
+      t.step = step_count_;
+      t.begin = share.begin;
+      t.end = share.end;
+    } else {
+      t.assembler.begin();
+    }
+    assemble_tangent(share, map, t.assembler);
+    return t.assembler.finish();
+  }
+
+  /// The sets of nodes the share's tangent couples: each distinct point stencil, the nodes of
+  /// each F-bar cell and of each ghost-penalty face the share assembles.
+  void build_tangent_structure(const ParticleShare& share, const DofMap& map,
+                               LatticeAssembler<Dim>& tangent) {
+    // Points with the same stencil start couple the same nodes: one clique per start.
+    stencil_points_.clear();
+    for (Index p = share.begin; p < share.end; ++p)
+      stencil_points_.push_back({scene_.grid.node_id(map_.stencil(p).start), p});
+    std::sort(stencil_points_.begin(), stencil_points_.end());
+    stencil_points_.erase(std::unique(stencil_points_.begin(), stencil_points_.end(),
+                                      [](const auto& a, const auto& b) { return a[0] == b[0]; }),
+                          stencil_points_.end());
+    const auto cliques = [&](auto&& f) {
+      for (const auto& start_and_point : stencil_points_) {
+        const auto nodes = map_.stencil_nodes(start_and_point[1]);
+        f(std::span<const Index>(nodes));
+      }
+      if (f_bar_)
+        f_bar_step_.for_each_cell_nodes(share, map_, f);
+      for (const auto& face : ghost_.faces())
+        if (map.owns_node(Ghost::anchor(face)))
+          f(std::span<const Index>(face.nodes));
+    };
+    tangent.build(
+        scene_.grid, map.overlap_count(), [&](Index n, int a) { return local_dof(map, n, a); },
+        cliques);
+  }
+
+  // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's nodes,
   // B mapping the nodal increments to grad(du) (row Dim a + b: du_a/dx_b) and A = dG/d(dF) the
-  // step tangent; the ghost-penalty face blocks, per component; the Newmark mass of its owned
-  // DOFs.
-  void assemble_tangent(const ParticleShare& share, const DofMap& map, SparseAssembler& tangent) {
+  // step tangent; the F-bar cell coupling; the ghost-penalty face blocks, per component; the
+  // Newmark mass of its owned DOFs.
+  void assemble_tangent(const ParticleShare& share, const DofMap& map,
+                        LatticeAssembler<Dim>& tangent) {
     constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
     constexpr int kDofs = Dim * kNodes;
     const auto& P = scene_.particles;
-    std::array<Index, kDofs> dofs{};
     Eigen::Matrix<double, Dim, kNodes> grads;
     Eigen::Matrix<double, Dim * Dim, kDofs> AB;
     Eigen::Matrix<double, kDofs, kDofs> K;
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;
-      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        for (int a = 0; a < Dim; ++a)
-          dofs[at(Dim * k + a)] = local_dof(map, n, a);
-        grads.col(k++) = grad;
-      });
+      map_.for_each_node_of(p, [&](Index, double, const V& grad) { grads.col(k++) = grad; });
       // B has one gradient per column (rows Dim c .. Dim c + Dim - 1 of column (j, c)) and per
       // row of B^T, so both products take Dim terms per entry instead of Dim^2.
       const StepTangent<Dim> A = point_step_tangent(s);
@@ -342,26 +382,23 @@ private:
         for (int i = 0; i < kNodes; ++i)
           for (int a = 0; a < Dim; ++a)
             K(Dim * i + a, col) = V0 * grads.col(i).dot(AB.col(col).template segment<Dim>(Dim * a));
-      tangent.add_block(dofs, K);
+      const auto nodes = map_.stencil_nodes(p);
+      tangent.add_block(nodes, K);
     }
     if (f_bar_)
-      add_f_bar_cell_coupling(share, map, tangent);
+      f_bar_step_.add_coupling(share, map_, P, trial_dF_, tangent);
     const auto& G = Ghost::face_matrix();
-    std::array<Index, Ghost::kFaceNodes> face_dofs{};
     for (const auto& face : ghost_.faces()) {
       if (!map.owns_node(Ghost::anchor(face)))
         continue;
-      const typename Ghost::FaceMatrix K = face.stiffness * G;
-      for (int a = 0; a < Dim; ++a) {
-        for (int k = 0; k < Ghost::kFaceNodes; ++k)
-          face_dofs[at(k)] = local_dof(map, face.nodes[at(k)], a);
-        tangent.add_block(face_dofs, K);
-      }
+      const typename Ghost::FaceMatrix K_face = face.stiffness * G;
+      for (int a = 0; a < Dim; ++a)
+        tangent.add_component_block(face.nodes, a, K_face);
     }
     if (dynamic_) {
       const auto& gids = map.overlap_gids();
       for (Index l = 0; l < map.owned_count(); ++l)
-        tangent.add(l, l, 4.0 * dof_mass_[at(gids[at(l)])] / (dt_ * dt_));
+        tangent.add_diagonal(l, 4.0 * dof_mass_[at(gids[at(l)])] / (dt_ * dt_));
     }
   }
 
@@ -401,11 +438,8 @@ private:
       }
     }
     prepare_ghost_penalty(heaviest);
-    if (f_bar_) {
-      f_bar_cells_.build(scene_.grid, P);
-      trial_j_.resize(at(P.size()));
-      f_bar_H_.resize(at(P.size()));
-    }
+    if (f_bar_)
+      f_bar_step_.prepare(scene_.grid, P);
     if (dynamic_) {
       // Lumped mass and the mass-weighted projections of the particles' velocity and
       // acceleration, per unknown.
@@ -457,7 +491,7 @@ private:
       force_scale_ = 1e-6 * modulus * scene_.grid.cell_size();
     }
     state_valid_ = false;
-    structure_recorded_ = false;
+    ++step_count_;
   }
 
   // A step driven by prescribed displacements (a footing pushed into weightless soil) has its
@@ -515,7 +549,7 @@ private:
       trial_dF_[at(p)] = dF;
       trial_F_[at(p)] = embedded<Dim>(dF) * P.F[at(p)];
     }
-    if (f_bar_ && !apply_f_bar(share))
+    if (f_bar_ && !f_bar_step_.apply(share, P, trial_dF_, trial_F_))
       return false; // a cell turned inside out: Newton backtracks, the stepper may cut back
     try {
       for (std::size_t m = 0; m < scene_.materials.size(); ++m)
@@ -542,108 +576,17 @@ private:
            state_du_.size() == du.size() && state_du_ == du;
   }
 
-  /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar, and
-  /// f_bar_H_[s] receives dG/dJ_bar.
+  /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
   StepTangent<Dim> point_step_tangent(std::size_t s) {
     const Mat3& Fn = scene_.particles.F[s];
     if (!f_bar_)
       return step_tangent<Dim>(trial_dF_[s], Fn, response_[s]);
-    const double j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))];
-    return f_bar_step_tangent<Dim>(trial_dF_[s], Fn, response_[s], trial_j_[s], j_bar, f_bar_H_[s]);
-  }
-
-  // --- F-bar (f_bar.hpp) ---------------------------------------------------------------------
-
-  /// F-bar couples the points of a cell: a share must hold every point of the cells it
-  /// reaches. (A distributed run will need shares made of whole cells, or the cell averages
-  /// exchanged; the serial solver is one share.)
-  void require_whole_cells(const ParticleShare& share) const {
-    const auto& points = f_bar_cells_.points();
-    for (Index p = share.begin; p < share.end; ++p) {
-      const Index c = f_bar_cells_.cell_of(p);
-      for (Index k = f_bar_cells_.begin(c); k < f_bar_cells_.end(c); ++k)
-        if (!share.contains(points[at(k)]))
-          throw std::invalid_argument(fmt::format(
-              "F-bar: share {} holds point {} but not point {} of the same cell; F-bar needs "
-              "shares made of whole cells",
-              share.index, p, points[at(k)]));
-    }
-  }
-
-  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/Dim)
-  /// dF_p; false if a point or a cell average has lost its volume (j <= 0).
-  bool apply_f_bar(const ParticleShare& share) {
-    const auto& P = scene_.particles;
-    cell_j_bar_.resize(at(f_bar_cells_.cell_count()));
-    for (Index p = share.begin; p < share.end; ++p) {
-      trial_j_[at(p)] = trial_dF_[at(p)].determinant();
-      cell_j_bar_[at(f_bar_cells_.cell_of(p))] = 0.0;
-    }
-    for (Index p = share.begin; p < share.end; ++p)
-      cell_j_bar_[at(f_bar_cells_.cell_of(p))] += f_bar_cells_.weight(p) * trial_j_[at(p)];
-    for (Index p = share.begin; p < share.end; ++p) {
-      const double j = trial_j_[at(p)], j_bar = cell_j_bar_[at(f_bar_cells_.cell_of(p))];
-      if (!(j > 0 && j_bar > 0))
-        return false;
-      trial_F_[at(p)] =
-          embedded<Dim>(M(f_bar_scale<Dim>(j_bar / j) * trial_dF_[at(p)])) * P.F[at(p)];
-    }
-    return true;
+    return f_bar_step_.step_tangent_of(static_cast<Index>(s), trial_dF_[s], Fn, response_[s]);
   }
 
   /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
   double volume_ratio(std::size_t s) const {
-    return f_bar_ ? trial_j_[s] / cell_j_bar_[at(f_bar_cells_.cell_of(static_cast<Index>(s)))]
-                  : 1.0;
-  }
-
-  // The coupling of the points of a cell through J_bar_c, one rank-one block u v^T per cell of
-  // the share (local DOFs of map):
-  //   u_ia = sum_p V0_p (H_p grad N_i(x_p))_a,   v_kc = sum_q w_q j_q (dF_q^-T grad N_k(x_q))_c,
-  // since dJ_bar = sum_q w_q j_q dF_q^-T : d(dF_q) and d(dF_q) = sum_k du_k grad N_k^T.
-  void add_f_bar_cell_coupling(const ParticleShare& share, const DofMap& map,
-                               SparseAssembler& tangent) {
-    const auto& P = scene_.particles;
-    const auto& points = f_bar_cells_.points();
-    dof_slot_.assign(at(map.overlap_count()), -1);
-    for (Index first = share.begin; first < share.end; ++first) {
-      // Each cell once: at the first of its points (cells list their points ascending).
-      const Index c = f_bar_cells_.cell_of(first);
-      if (points[at(f_bar_cells_.begin(c))] != first)
-        continue;
-      cell_dofs_.clear();
-      cell_u_.clear();
-      cell_v_.clear();
-      for (Index k = f_bar_cells_.begin(c); k < f_bar_cells_.end(c); ++k) {
-        const Index p = points[at(k)];
-        const auto s = at(p);
-        const M H = P.volume0[s] * f_bar_H_[s];
-        const M dFinv_T = trial_dF_[s].inverse().transpose();
-        const double wj = f_bar_cells_.weight(p) * trial_j_[s];
-        map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-          const V u = H * grad, v = wj * (dFinv_T * grad);
-          for (int a = 0; a < Dim; ++a) {
-            const Index dof = local_dof(map, n, a);
-            if (dof < 0)
-              continue;
-            if (dof_slot_[at(dof)] < 0) {
-              dof_slot_[at(dof)] = static_cast<Index>(cell_dofs_.size());
-              cell_dofs_.push_back(dof);
-              cell_u_.push_back(0.0);
-              cell_v_.push_back(0.0);
-            }
-            cell_u_[at(dof_slot_[at(dof)])] += u[a];
-            cell_v_[at(dof_slot_[at(dof)])] += v[a];
-          }
-        });
-      }
-      const auto n = static_cast<Eigen::Index>(cell_dofs_.size());
-      cell_block_.noalias() = Eigen::Map<const Eigen::VectorXd>(cell_u_.data(), n) *
-                              Eigen::Map<const Eigen::VectorXd>(cell_v_.data(), n).transpose();
-      tangent.add_block(cell_dofs_, cell_block_);
-      for (const Index dof : cell_dofs_)
-        dof_slot_[at(dof)] = -1;
-    }
+    return f_bar_ ? f_bar_step_.volume_ratio(static_cast<Index>(s)) : 1.0;
   }
 
   // Moves the points with the converged increment and stores their new state.
@@ -748,9 +691,14 @@ private:
   Eigen::VectorXd state_du_;
   ParticleShare whole_; ///< every point: the serial solver's one share
   DofMap serial_map_;   ///< whole_'s DOF map: local ids are the global ones
-  SparseAssembler assembler_;
-  bool structure_recorded_ = false; ///< the assembler holds this step's structure
-  SparseMatrix previous_pattern_;   ///< the last tangent whose pattern was analysed
+  /// A share's tangent assembler and the step and points its structure was built for.
+  struct ShareTangent {
+    LatticeAssembler<Dim> assembler;
+    Index step = -1, begin = -1, end = -1;
+  };
+  std::vector<ShareTangent> share_tangents_;         ///< per share index (the serial solver: [0])
+  std::vector<std::array<Index, 2>> stencil_points_; ///< (stencil start, a point with it)
+  Index step_count_ = 0;                             ///< steps prepared so far
   bool pattern_changed_ = true;
   FaceReactions reactions_{};
   double seconds_particle_update_ = 0;
@@ -764,14 +712,7 @@ private:
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
   bool f_bar_ = false;                             ///< F-bar volume averaging per cell (f_bar.hpp)
-  FBarCells f_bar_cells_;                          ///< the points of each cell, at the step's start
-  std::vector<double> trial_j_;                    ///< per point: det dF at the trial increment
-  std::vector<double> cell_j_bar_;                 ///< per cell: volume-weighted average of j
-  std::vector<M> f_bar_H_;                         ///< per point: dG/dJ_bar (f_bar_step_tangent)
-  std::vector<Index> dof_slot_;         ///< per local DOF: its slot in the cell being coupled
-  std::vector<Index> cell_dofs_;        ///< the local DOFs of the cell being coupled
-  std::vector<double> cell_u_, cell_v_; ///< the cell's rank-one factors, per slot
-  Eigen::MatrixXd cell_block_;          ///< u v^T of the cell being coupled
+  FBarStep<Dim> f_bar_step_;
 };
 
 template <int Dim> struct ImplicitIn {

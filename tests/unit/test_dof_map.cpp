@@ -58,11 +58,10 @@ Assembly assemble_in_shares(ImplicitSolver& solver, const std::vector<ParticleSh
   for (const ParticleShare& share : shares) {
     const DofMap map = solver.dof_map(share, owners);
     Eigen::VectorXd r;
-    SparseAssembler tangent;
-    tangent.begin(map.overlap_count(), true);
+    SparseMatrix tangent;
     EXPECT_TRUE(solver.assemble_share(share, map, map.restrict_to_overlap(du), &r, &tangent));
     map.add_to_global(r, sum.residual);
-    map.add_to_global(tangent.finish(), sum.tangent);
+    map.add_to_global(tangent, sum.tangent);
   }
   return sum;
 }

@@ -94,6 +94,15 @@ public:
     }
   }
 
+  /// The grid nodes of particle p's stencil, in the order for_each_node_of visits them.
+  std::array<Index, kStencilSize> stencil_nodes(Index p) const {
+    const Stencil& st = stencils_[static_cast<std::size_t>(p)];
+    std::array<Index, kStencilSize> nodes{};
+    for (int k = 0; k < kStencilSize; ++k)
+      nodes[static_cast<std::size_t>(k)] = grid_->node_id(offset(st.start, k));
+    return nodes;
+  }
+
   /// f(particle, weight, gradient) for every particle whose stencil contains `node`, in a
   /// fixed order (bin by bin, particles in ascending index).
   template <class F> void for_each_particle_of(Index node, F&& f) const {

@@ -22,7 +22,7 @@
 // node masses and loads are computed for all points.
 #include "talus/core/scene.hpp"
 #include "talus/linalg/dof_map.hpp"
-#include "talus/linalg/sparse_assembler.hpp"
+#include "talus/linalg/linear_solver.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/newton.hpp"
 #include "talus/solver/particle_share.hpp"
@@ -74,12 +74,13 @@ public:
   virtual DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const = 0;
   /// Evaluates the share's points at the increment du_overlap (the share's DOFs in the local
   /// ids of `map`; the prescribed components follow the step's ramp) and assembles the share's
-  /// residual (sized and set to the overlap DOFs) and/or tangent (added to a pass the caller
-  /// began over map.overlap_count() DOFs); either may be null. Returns false if a material
-  /// update failed. Throws std::invalid_argument if the share reaches a node outside `map`.
+  /// residual (sized and set to the overlap DOFs) and/or tangent (set to the overlap DOFs' square
+  /// matrix; the share's sparsity structure is kept for the next call with the same share in
+  /// the same step); either may be null. Returns false if a material update failed. Throws
+  /// std::invalid_argument if the share reaches a node outside `map`.
   virtual bool assemble_share(const ParticleShare& share, const DofMap& map,
                               const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
-                              SparseAssembler* tangent) = 0;
+                              SparseMatrix* tangent) = 0;
 };
 
 /// `prescribed_fraction_reached`: the fraction of the prescribed displacements already applied
