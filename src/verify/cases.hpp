@@ -15,6 +15,7 @@ VerificationCase rigid_translation_3d();
 VerificationCase colliding_spheres();
 VerificationCase rigid_rotation();
 VerificationCase cantilever();
+VerificationCase cantilever_3d();
 VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();
