@@ -31,7 +31,8 @@ template <int Dim> const typename GhostPenalty<Dim>::FaceMatrix& GhostPenalty<Di
 
 template <int Dim>
 void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& node_active,
-                              const std::vector<double>& node_modulus, double gamma) {
+                              const std::vector<double>& node_modulus, double gamma,
+                              const std::array<bool, 2 * Dim>& mirror_faces) {
   faces_.clear();
   if (gamma <= 0.0)
     return;
@@ -80,6 +81,22 @@ void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& no
         return false;
     return cell_active_[flat(c)] != 0;
   };
+  // A cell beyond a mirror face (a roller: a symmetry plane) stands for the mirror image of
+  // the cell inside, not for empty space: the body does not end there. Counting it as empty
+  // would put every cell of a slab between two z rollers into the band, and the slab would
+  // not give the plane-strain answer.
+  auto beyond_mirror = [&](const Cell& c) {
+    bool outside = false;
+    for (int d = 0; d < Dim; ++d) {
+      const bool below = c[d] < Grid<Dim>::kGhost;
+      const bool above = c[d] >= cells[d] - Grid<Dim>::kGhost;
+      if ((below && !mirror_faces[static_cast<std::size_t>(2 * d)]) ||
+          (above && !mirror_faces[static_cast<std::size_t>(2 * d + 1)]))
+        return false;
+      outside = outside || below || above;
+    }
+    return outside;
+  };
   cell_in_band_.assign(cell_active_.size(), 0);
   int neighbours = 1; // 3^Dim offsets in {-1, 0, 1}^Dim
   for (int d = 0; d < Dim; ++d)
@@ -93,7 +110,7 @@ void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& no
       Cell n = c;
       for (int d = 0, rest = k; d < Dim; ++d, rest /= 3)
         n[d] += rest % 3 - 1;
-      band = !active(n);
+      band = !active(n) && !beyond_mirror(n);
     }
     cell_in_band_[static_cast<std::size_t>(id)] = band;
   }

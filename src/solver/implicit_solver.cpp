@@ -522,7 +522,10 @@ private:
         node_modulus_[at(n)] = std::max(node_modulus_[at(n)], E);
       });
     }
-    ghost_.build(scene_.grid, node_active_, node_modulus_, gamma);
+    std::array<bool, 2 * Dim> mirror_faces{};
+    for (int f = 0; f < 2 * Dim; ++f)
+      mirror_faces[at(f)] = scene_.spec.boundaries[f] == FaceCondition::Roller;
+    ghost_.build(scene_.grid, node_active_, node_modulus_, gamma, mirror_faces);
   }
 
   void add_external(Index n, const V& f) {

@@ -16,6 +16,7 @@ VerificationCase colliding_spheres();
 VerificationCase rigid_rotation();
 VerificationCase cantilever();
 VerificationCase cantilever_3d();
+VerificationCase cantilever_slab_3d();
 VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();

@@ -25,6 +25,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::rigid_rotation(),
                                                       verify_cases::cantilever(),
                                                       verify_cases::cantilever_3d(),
+                                                      verify_cases::cantilever_slab_3d(),
                                                       verify_cases::self_weight_column(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),

@@ -149,3 +149,24 @@ TEST(GhostPenalty, StabilisesOnlyFacesTouchingTheBoundaryBand3d) {
   }
   EXPECT_EQ(distinct.size(), ghost.faces().size());
 }
+
+TEST(GhostPenalty, ASlabBetweenMirrorFacesHasTheBandOfItsSection) {
+  // 8 x 8 x 2 cells; the material fills cells 1..6 in x and y and the whole thickness in z
+  // (nodes 0..2): a plane-strain slab between the two z faces.
+  const Grid<3> grid(talus::Vec3(0, 0, 0), 1.0, {8, 8, 2});
+  std::vector<char> active(static_cast<std::size_t>(grid.node_count()), 0);
+  std::vector<double> modulus(active.size(), 1.0);
+  for (Index k = 0; k <= 2; ++k)
+    for (Index j = 1; j <= 7; ++j)
+      for (Index i = 1; i <= 7; ++i)
+        active[static_cast<std::size_t>(grid.node_id({i, j, k}))] = 1;
+  Ghost3 ghost;
+  // With rollers on both z faces the band is the 2D one, the outer ring of the 6 x 6 section,
+  // in both layers: per layer the 2D test's 36 x- and y-faces, plus the z-faces (one per
+  // column of two cells) in the ring, 6^2 - 4^2 = 20: 2 x 36 + 20 = 92.
+  ghost.build(grid, active, modulus, 0.5, {false, false, false, false, true, true});
+  EXPECT_EQ(ghost.faces().size(), 92u);
+  // Taken for free faces, the z faces put every cell into the band: 2 x 60 + 36 = 156.
+  ghost.build(grid, active, modulus, 0.5);
+  EXPECT_EQ(ghost.faces().size(), 156u);
+}

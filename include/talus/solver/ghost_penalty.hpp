@@ -15,9 +15,11 @@
 // every node of a stabilised face a stiffness of order gamma E however little material it sees.
 //
 // Which faces: those between two active cells (all 2^Dim nodes carry mass) where at least one
-// of the two lies in the boundary band, i.e. has an inactive cell among its 3^Dim - 1
-// neighbours. This is a topological test, independent of how much a cell is compressed or
-// stretched (a volume-fraction test would also fire inside a compressed body).
+// of the two lies in the boundary band, i.e. has an inactive cell of the grid among its
+// 3^Dim - 1 neighbours; a cell beyond a roller face of the grid (a symmetry plane) counts as
+// the mirror image of the one inside, not as empty. This is a topological test, independent of how
+// much a cell is compressed or stretched (a volume-fraction test would also fire inside a
+// compressed body).
 //
 // On a regular grid the face integral is closed form. For a face with normal along axis d,
 // the multilinear basis's normal derivative jumps by (1/h) [-1, 2, -1] across the three node
@@ -49,9 +51,11 @@ public:
 
   /// Finds the stabilised faces. node_active[n]: node n carries mass this step;
   /// node_modulus[n]: the largest Young's modulus among the points that reach node n;
-  /// gamma: the dimensionless penalty factor (0 switches stabilisation off).
+  /// gamma: the dimensionless penalty factor (0 switches stabilisation off); mirror_faces[f]:
+  /// grid face f (kXMin, kXMax, ...) is a symmetry plane (a roller).
   void build(const Grid<Dim>& grid, const std::vector<char>& node_active,
-             const std::vector<double>& node_modulus, double gamma);
+             const std::vector<double>& node_modulus, double gamma,
+             const std::array<bool, 2 * Dim>& mirror_faces = {});
 
   const std::vector<Face>& faces() const { return faces_; }
   /// (d d^T) (x) M^(x)(Dim-1), the face matrix for unit stiffness.
