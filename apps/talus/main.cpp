@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--field", render_options.field,
                          "Particle field: stress, stress_smoothed, velocity, F, mass, ...");
   render_cmd->add_option("--component", render_options.component,
-                         "Component: xx, xy, yy, zz, ... (tensors), x, y, magnitude (vectors)");
+                         "Component: xx, xy, yy, zz, ... (tensors), x, y, z, magnitude "
+                         "(vectors)");
   render_cmd->add_option("--frame", render_options.frame,
                          "Frame number, last (default) or all (a numbered sequence)");
   render_cmd->add_option("--pattern", render_options.pattern,
@@ -261,6 +262,12 @@ int main(int argc, char** argv) {
                          "stripes_vertical");
   render_cmd->add_option("--mode", render_options.mode,
                          "voxels or points (default: voxels when the run wrote them)");
+  render_cmd->add_option("--slice", render_options.slice,
+                         "3D runs: draw the voxels (or points) cut by a plane, e.g. z=0.5 "
+                         "(also x=..., y=...)");
+  render_cmd->add_option("--view", render_options.view,
+                         "3D runs without --slice: outer faces seen from iso (default), x, y "
+                         "or z");
   render_cmd->add_option("-o,--output", render_options.output, "Output picture (.png)")->required();
 
   auto* check = app.add_subcommand(

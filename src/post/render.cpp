@@ -1,5 +1,6 @@
-// `talus render` (include/talus/post/render.hpp): resolves the frame, field, component, pattern
-// and mode against run.h5, then hands the resolved datasets to scripts/render.py.
+// `talus render` (include/talus/post/render.hpp): resolves the frame, field, component, pattern,
+// mode and (3D) slice or view against run.h5, then hands the resolved datasets to
+// scripts/render.py.
 #include "talus/post/render.hpp"
 
 #include "talus/core/errors.hpp"
@@ -8,8 +9,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -28,6 +31,8 @@ std::vector<std::string> components_of(Index columns) {
   switch (columns) {
   case 2:
     return {"x", "y"};
+  case 3:
+    return {"x", "y", "z"};
   case 6: // Tensor6: xx, xy, xz, yy, yz, zz
     return {"xx", "xy", "xz", "yy", "yz", "zz"};
   case 9: // 3x3 row-major
@@ -57,6 +62,52 @@ std::vector<Index> selected_frames(const std::string& frame, Index count) {
   return {k};
 }
 
+/// A 3D slice plane, `--slice z=0.5`: coordinate `axis` (0, 1, 2 for x, y, z) equals `value`.
+struct Plane {
+  int axis = 0;
+  double value = 0;
+};
+
+Plane parse_slice(const std::string& text) {
+  const std::string axes = "xyz";
+  if (text.size() < 2 || text[1] != '=' || axes.find(text[0]) == std::string::npos)
+    bad("--slice",
+        fmt::format("expected AXIS=VALUE with AXIS x, y or z (e.g. z=0.5), got '{}'", text));
+  const char* first = text.data() + (text.size() > 2 && text[2] == '+' ? 3 : 2);
+  const char* last = text.data() + text.size();
+  double value = 0;
+  const auto [end, ec] = std::from_chars(first, last, value);
+  if (ec != std::errc() || end != last || !std::isfinite(value))
+    bad("--slice", fmt::format("expected a number after '{}=', got '{}'", text[0], text.substr(2)));
+  return {static_cast<int>(axes.find(text[0])), value};
+}
+
+/// Refuses a plane that misses what is drawn (`dataset`: the voxel corners or the points) in
+/// every selected frame; a plane that meets some frames of a sequence draws those.
+void check_plane_meets(const ResultsReader& reader, const std::vector<Index>& frames,
+                       const std::string& dataset, const Plane& plane) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Index k : frames) {
+    Index rows = 0, columns = 0;
+    const std::vector<double> data = reader.read(k, dataset, &rows, &columns);
+    double frame_lo = std::numeric_limits<double>::infinity(), frame_hi = -frame_lo;
+    for (Index r = 0; r < rows; ++r) {
+      frame_lo = std::min(frame_lo, data[static_cast<std::size_t>(r * columns + plane.axis)]);
+      frame_hi = std::max(frame_hi, data[static_cast<std::size_t>(r * columns + plane.axis)]);
+    }
+    if (frame_lo <= plane.value && plane.value <= frame_hi)
+      return;
+    lo = std::min(lo, frame_lo);
+    hi = std::max(hi, frame_hi);
+  }
+  const char axis = "xyz"[plane.axis];
+  bad("--slice", fmt::format("the plane {} = {:g} is outside the {} of {} ({} from {:g} to {:g})",
+                             axis, plane.value, dataset == "position" ? "points" : "voxels",
+                             frames.size() == 1 ? fmt::format("frame {}", frames.front())
+                                                : std::string("every selected frame"),
+                             axis, lo, hi));
+}
+
 } // namespace
 
 int render(const RenderOptions& o) {
@@ -81,6 +132,22 @@ int render(const RenderOptions& o) {
         fmt::format("unknown pattern '{}' (allowed: {})", o.pattern, fmt::join(patterns, ", ")));
   if (!o.mode.empty() && o.mode != "voxels" && o.mode != "points")
     bad("--mode", fmt::format("unknown mode '{}' (allowed: voxels, points)", o.mode));
+  const bool three_d = reader->metadata_string("dimension") == "3";
+  if (!three_d && !o.slice.empty())
+    bad("--slice", fmt::format("'{}' is a 2D result: it is drawn in its plane, a slice needs a "
+                               "3D run",
+                               file));
+  if (!three_d && !o.view.empty())
+    bad("--view", fmt::format("'{}' is a 2D result: it is drawn in its plane, a view direction "
+                              "needs a 3D run",
+                              file));
+  const std::vector<std::string> views = {"iso", "x", "y", "z"};
+  if (!o.view.empty() && std::find(views.begin(), views.end(), o.view) == views.end())
+    bad("--view", fmt::format("unknown view '{}' (allowed: {})", o.view, fmt::join(views, ", ")));
+  if (!o.view.empty() && !o.slice.empty())
+    bad("--view", "a slice is drawn in its plane; --view directs the outer-face view, without "
+                  "--slice");
+  const Plane plane = o.slice.empty() ? Plane{} : parse_slice(o.slice);
 
   const std::vector<Index> frames = selected_frames(o.frame, reader->frame_count());
   bool all_have_voxels = true;
@@ -119,7 +186,7 @@ int render(const RenderOptions& o) {
       if (!o.component.empty())
         bad("--component", fmt::format("field '{}' is a scalar; leave out --component", o.field));
     } else if (o.component.empty() || o.component == "magnitude") {
-      if (columns != 2)
+      if (columns > 3)
         bad("--component", fmt::format("field '{}' has components {}; choose one with --component",
                                        o.field, fmt::join(names, ", ")));
       column = "norm";
@@ -129,11 +196,17 @@ int render(const RenderOptions& o) {
       if (it == names.end())
         bad("--component",
             fmt::format("field '{}' has no component '{}' (allowed: {}{})", o.field, o.component,
-                        fmt::join(names, ", "), columns == 2 ? ", magnitude" : ""));
+                        fmt::join(names, ", "), columns <= 3 ? ", magnitude" : ""));
       column = std::to_string(it - names.begin());
       label += " " + o.component;
     }
     args.insert(args.end(), {"--dataset", o.field, "--column", column, "--label", label});
+  }
+  if (!o.slice.empty()) {
+    check_plane_meets(*reader, frames, mode == "voxels" ? "voxels/corners" : "position", plane);
+    args.insert(args.end(), {"--slice", fmt::format("{}={:.17g}", "xyz"[plane.axis], plane.value)});
+  } else if (three_d) {
+    args.insert(args.end(), {"--view", o.view.empty() ? "iso" : o.view});
   }
   args.insert(args.end(), {"--mode", mode, "-o", o.output.string()});
   if (o.frame == "all")

@@ -5,6 +5,7 @@ that a file exists.
     /usr/bin/python3 tests/python/check_png.py pattern OUT.png   # checker pattern on the voxels
     /usr/bin/python3 tests/python/check_png.py field OUT.png     # a field in the viridis map
     /usr/bin/python3 tests/python/check_png.py drawn OUT.png     # points in the viridis map
+    /usr/bin/python3 tests/python/check_png.py shaded OUT.png    # lit 3D faces, coloured
     /usr/bin/python3 tests/python/check_png.py differ A.png B.png
 
 Only the axes are looked at (the box inside the dark spines, the widest of the boxes the
@@ -13,8 +14,10 @@ pattern map cover at least 3 % of the axes each, in a ratio within [0.8, 1.25] (
 half dark, half light; an empty plot, a plot of one colour or of the wrong field fails). field:
 at least 20 distinct colours of matplotlib's viridis map cover at least 2 % of the axes (the
 points or voxels are drawn and coloured by a varying field). drawn: viridis colours cover at
-least 0.5 % of the axes (dots of a uniform field are drawn). differ: the two pictures are not
-the same image (frames of a moving body).
+least 0.5 % of the axes (dots of a uniform field are drawn). shaded: at least 20 distinct
+coloured (not grey: channels spread by 40 or more of 255) colours cover at least 2 % of the
+axes (3D faces are the map's colours darkened by their lighting, so not the map's own). differ:
+the two pictures are not the same image (frames of a moving body).
 Exits 0 when the picture holds, 1 with a message otherwise.
 """
 
@@ -86,6 +89,16 @@ def check_field(path, min_colours=20, min_cover=0.02):
     print(f"check_png: {path}: {len(in_map)} viridis colours over {covered:.3f}")
 
 
+def check_shaded(path):
+    pixels = axes_pixels(path)
+    coloured = pixels[pixels.max(axis=1) - pixels.min(axis=1) >= 40]
+    distinct = len(np.unique(coloured, axis=0))
+    covered = len(coloured) / len(pixels)
+    if distinct < 20 or covered < 0.02:
+        fail(f"{path}: {distinct} coloured colours covering {covered:.3f} of the axes")
+    print(f"check_png: {path}: {distinct} coloured colours over {covered:.3f}")
+
+
 def check_differ(a, b):
     pa, pb = rgb(a).reshape(-1, 3), rgb(b).reshape(-1, 3)
     if pa.shape == pb.shape and np.array_equal(pa, pb):
@@ -100,6 +113,8 @@ def main():
         check_field(sys.argv[2])
     elif len(sys.argv) == 3 and sys.argv[1] == "drawn":
         check_field(sys.argv[2], min_colours=1, min_cover=0.005)
+    elif len(sys.argv) == 3 and sys.argv[1] == "shaded":
+        check_shaded(sys.argv[2])
     elif len(sys.argv) == 4 and sys.argv[1] == "differ":
         check_differ(sys.argv[2], sys.argv[3])
     else:

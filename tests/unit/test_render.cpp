@@ -3,7 +3,9 @@
 // they show (tests/python/check_png.py: the checker's two colours in equal shares, a field's
 // colour map, points drawn, frames that differ as the discs move); bad ones (a missing file, field,
 // frame, component, or voxels that were never written) exit with 2, a message naming the option,
-// and no picture.
+// and no picture. Render3D: a small 3D box with voxels, drawn as slices and as its outer faces;
+// its geometry (polygons and areas of a slice, the count of outer faces) is checked by
+// tests/python/check_render3d.py on the run's own voxels.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -129,6 +131,104 @@ TEST_F(Render, BadRequestsExitWithTwoNameTheOptionAndWriteNothing) {
     EXPECT_NE(o.stderr_text.find(c.message), std::string::npos)
         << c.args << "\nstderr: " << o.stderr_text;
     EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
+TEST_F(Render, SliceAndViewNeedA3DRun) {
+  const fs::path out = dir_ / "bad.png";
+  for (const char* option : {"--slice z=0.5", "--view iso"}) {
+    const Outcome o =
+        talus("render " + h5("voxels") + " --field mass " + option + " -o '" + out.string() + "'");
+    EXPECT_EQ(o.exit_code, 2) << option;
+    const std::string name = std::string(option).substr(0, std::string(option).find(' '));
+    EXPECT_NE(o.stderr_text.find(name + ": "), std::string::npos) << o.stderr_text;
+    EXPECT_NE(o.stderr_text.find("is a 2D result"), std::string::npos) << o.stderr_text;
+    EXPECT_FALSE(fs::exists(out)) << option;
+  }
+}
+
+// A box of 12 x 8 x 6 points (spacing 0.05 m) sheared for 0.02 s: three frames.
+const char* const kBox3d = R"yaml(name: render_box_3d
+dimension: 3
+grid: {origin: [0, 0, 0], extent: [0.8, 0.6, 0.5], cell_size: 0.1}
+materials:
+  - {name: soft, model: neo_hookean, density: 20, youngs_modulus: 1.0e5, poisson_ratio: 0.3}
+bodies:
+  - {name: box, material: soft, shape: box, min: [0.1, 0.1, 0.1], max: [0.7, 0.5, 0.4],
+     particles_per_cell: 2, velocity: ["0.5 * (y - 0.3)", 0, "0.3 * (x - 0.4)"]}
+time: {end_time: 0.02, cfl: 0.5}
+output: {every_time: 0.01, voxels: true}
+solver: {shape: gimp, scheme: musl, flip: 1}
+)yaml";
+
+class Render3D : public Render {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("talus_render3d_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "box.yaml") << kBox3d;
+    ASSERT_EQ(talus("run '" + (dir_ / "box.yaml").string() + "' --out '" + (dir_ / "box").string() +
+                    "' > /dev/null 2>&1")
+                  .exit_code,
+              0);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+};
+
+TEST_F(Render3D, SlicesAndOuterFacesAreDrawn) {
+  const struct {
+    std::string options, file, check;
+  } pictures[] = {
+      {"--field stress --component xy --slice z=0.25", "slice_z.png", "field"},
+      {"--field velocity --component magnitude --slice x=0.3", "slice_x.png", "field"},
+      {"--field stress --component xy --mode points --slice y=0.3", "slice_points.png", "drawn"},
+      {"--field stress --component xy", "faces_iso.png", "shaded"},
+      {"--field velocity --component z --view y", "faces_y.png", "shaded"},
+      {"--pattern checker --view z", "checker_z.png", "shaded"},
+  };
+  for (const auto& p : pictures) {
+    const fs::path out = dir_ / p.file;
+    EXPECT_EQ(
+        talus("render " + h5("box") + " " + p.options + " -o '" + out.string() + "'").exit_code, 0)
+        << p.options;
+    EXPECT_TRUE(is_png(out)) << p.options;
+    EXPECT_TRUE(picture_holds(p.check, {out})) << p.options;
+  }
+}
+
+TEST_F(Render3D, SliceAndFaceGeometryHoldOnTheRun) {
+  const std::string command = "/usr/bin/python3 '" + std::string(TALUS_TESTS_DIR) +
+                              "/python/check_render3d.py' " + h5("box") + " 12 8 6";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+}
+
+TEST_F(Render3D, BadSlicesAndViewsExitWithTwoNameTheOptionAndWriteNothing) {
+  const fs::path out = dir_ / "bad.png";
+  const std::string sxx = " --field stress --component xx ";
+  const struct {
+    std::string options, message;
+  } cases[] = {
+      {sxx + "--slice w=1",
+       "--slice: expected AXIS=VALUE with AXIS x, y or z (e.g. z=0.5), got 'w=1'"},
+      {sxx + "--slice z=abc", "--slice: expected a number after 'z=', got 'abc'"},
+      {sxx + "--slice z0.5", "--slice: expected AXIS=VALUE"},
+      {sxx + "--slice z=0.9",
+       "--slice: the plane z = 0.9 is outside the voxels of frame 2 (z from"},
+      {sxx + "--slice x=-1 --mode points",
+       "--slice: the plane x = -1 is outside the points of frame 2 (x from"},
+      {sxx + "--slice y=2 --frame all", "outside the voxels of every selected frame"},
+      {sxx + "--view top", "--view: unknown view 'top' (allowed: iso, x, y, z)"},
+      {sxx + "--view x --slice z=0.2", "--view: a slice is drawn in its plane"},
+      {" --field velocity --component w",
+       "--component: field 'velocity' has no component 'w' (allowed: x, y, z, magnitude)"},
+  };
+  for (const auto& c : cases) {
+    const Outcome o = talus("render " + h5("box") + c.options + " -o '" + out.string() + "'");
+    EXPECT_EQ(o.exit_code, 2) << c.options;
+    EXPECT_NE(o.stderr_text.find(c.message), std::string::npos)
+        << c.options << "\nstderr: " << o.stderr_text;
+    EXPECT_FALSE(fs::exists(out)) << c.options;
   }
 }
 

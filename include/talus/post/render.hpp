@@ -1,6 +1,7 @@
 #pragma once
 // `talus render`: PNG pictures of a run's frames, deformed voxels (or dots) coloured by a
-// particle field or a colour pattern, with a colour bar, axes in model units and the time.
+// particle field or a colour pattern, with a colour bar, axes in model units and the time. A 3D
+// run is drawn as a plane slice (--slice) or as its outer voxel faces seen from --view.
 // The request is validated here against run.h5 (bad input: InputError naming the option, exit 2,
 // nothing written); the drawing is matplotlib's (scripts/render.py), which brings colour maps,
 // colour bars and axes that a raw drawing library (cairo) would need written by hand.
@@ -16,6 +17,8 @@ struct RenderOptions {
   std::string frame = "last";    ///< frame number, "last" or "all"
   std::string pattern;           ///< "checker", "stripes_horizontal" or "stripes_vertical"
   std::string mode;              ///< "voxels" or "points"; empty: voxels when written
+  std::string slice;             ///< 3D only: "z=0.5" (x, y or z); empty: the outer-face view
+  std::string view;              ///< 3D outer-face view: "iso", "x", "y" or "z"; empty: iso
   std::filesystem::path output;  ///< OUT.png; with frame "all": OUT_000000.png, ...
 };
 
