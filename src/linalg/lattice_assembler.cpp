@@ -51,9 +51,14 @@ template <int Dim> void LatticeAssembler<Dim>::allocate_neighbour_tables() {
   neighbour_row_.assign(node_of_slot_.size() * at(codes_), -1);
   slot_code_.resize(node_of_slot_.size());
   slot_ijk_.resize(node_of_slot_.size());
+  complete_.resize(node_of_slot_.size());
   for (std::size_t s = 0; s < node_of_slot_.size(); ++s) {
     slot_code_[s] = lattice_code(node_of_slot_[s]);
     slot_ijk_[s] = grid_->node_ijk(node_of_slot_[s]);
+    complete_[s] =
+        std::all_of(component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim),
+                    component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim + Dim),
+                    [](int o) { return o >= 0; });
   }
 }
 
@@ -194,6 +199,9 @@ int LatticeAssembler<Dim>::row_start(std::size_t k, std::size_t l,
   return start;
 }
 
+// Per column node l: where each row node's rows start in l's columns (one table lookup per
+// pair), then per component of l one column, whose entries of node k are contiguous. Each entry
+// receives one term per block, so the sums keep the order in which the blocks arrive.
 template <int Dim>
 void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
                                       const Eigen::Ref<const Eigen::MatrixXd>& K) {
@@ -202,27 +210,36 @@ void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
     throw std::invalid_argument("LatticeAssembler: a block must have Dim rows and columns per "
                                 "node");
   gather_slots(nodes);
+  scratch_starts_.resize(nodes.size());
   const int* outer = matrix_.outerIndexPtr();
   double* values = matrix_.valuePtr();
   for (std::size_t l = 0; l < nodes.size(); ++l) {
     const Index sl = scratch_slots_[l];
     if (sl < 0)
       continue;
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      scratch_starts_[k] = scratch_slots_[k] < 0 ? -1 : row_start(k, l, nodes);
     const int* ol = component_offset_.data() + at(sl) * Dim;
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
-      const Index sk = scratch_slots_[k];
-      if (sk < 0)
+    for (int b = 0; b < Dim; ++b) {
+      if (ol[b] < 0)
         continue;
-      const int start = row_start(k, l, nodes);
-      const int* ok = component_offset_.data() + at(sk) * Dim;
-      for (int b = 0; b < Dim; ++b) {
-        if (ol[b] < 0)
+      double* column = values + outer[first_dof_[at(sl)] + ol[b]];
+      const double* k_col = K.col(Dim * static_cast<Eigen::Index>(l) + b).data();
+      for (std::size_t k = 0; k < nodes.size(); ++k) {
+        const Index sk = scratch_slots_[k];
+        if (sk < 0)
           continue;
-        double* column = values + outer[first_dof_[at(sl)] + ol[b]] + start;
-        const double* k_col = K.col(Dim * static_cast<Eigen::Index>(l) + b).data() + Dim * k;
-        for (int a = 0; a < Dim; ++a)
-          if (ok[a] >= 0)
-            column[ok[a]] += k_col[a];
+        double* rows = column + scratch_starts_[k];
+        const double* terms = k_col + Dim * k;
+        const int* ok = component_offset_.data() + at(sk) * Dim;
+        if (complete_[at(sk)]) {
+          for (int a = 0; a < Dim; ++a)
+            rows[a] += terms[a];
+        } else {
+          for (int a = 0; a < Dim; ++a)
+            if (ok[a] >= 0)
+              rows[ok[a]] += terms[a];
+        }
       }
     }
   }

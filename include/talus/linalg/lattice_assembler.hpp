@@ -88,7 +88,9 @@ private:
   std::vector<int> slot_of_dof_;   ///< per unknown: its node's slot
   bool same_structure_ = false;
   SparseMatrix matrix_;
+  std::vector<char> complete_; ///< per slot: every component has an unknown
   std::vector<Index> scratch_slots_;
+  std::vector<int> scratch_starts_;
 };
 
 template <int Dim> template <class Dof> int LatticeAssembler<Dim>::visit(Index n, Dof& dof) {
