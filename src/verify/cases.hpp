@@ -9,6 +9,7 @@ namespace talus::verify_cases {
 VerificationCase vibrating_bar();
 VerificationCase vibrating_bar_implicit();
 VerificationCase vibrating_bar_3d();
+VerificationCase vibrating_bar_implicit_3d();
 VerificationCase colliding_discs();
 VerificationCase rigid_translation();
 VerificationCase rigid_translation_3d();

@@ -18,6 +18,7 @@ const std::vector<VerificationCase>& verification_cases() {
   static const std::vector<VerificationCase> cases = {verify_cases::vibrating_bar(),
                                                       verify_cases::vibrating_bar_implicit(),
                                                       verify_cases::vibrating_bar_3d(),
+                                                      verify_cases::vibrating_bar_implicit_3d(),
                                                       verify_cases::colliding_discs(),
                                                       verify_cases::rigid_translation(),
                                                       verify_cases::rigid_translation_3d(),
