@@ -179,7 +179,9 @@ template <int Dim> void LatticeAssembler<Dim>::gather_slots(std::span<const Inde
       hi[d] = std::max(hi[d], slot_ijk_[at(s)][at(d)]);
     }
   }
-  for (int d = 0; d < Dim; ++d)
+  const bool any =
+      std::any_of(scratch_slots_.begin(), scratch_slots_.end(), [](Index s) { return s >= 0; });
+  for (int d = 0; d < Dim && any; ++d)
     if (hi[d] - lo[d] > reach_)
       throw std::logic_error(fmt::format("LatticeAssembler: a block spans {} lattice steps, "
                                          "wider than any set of nodes declared coupled ({})",
