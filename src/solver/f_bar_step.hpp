@@ -123,8 +123,6 @@ public:
     }
   }
 
-  const FBarCells& cells() const { return cells_; }
-
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
   double j_bar_of(Index p) const { return cell_j_bar_[at(cells_.cell_of(p))]; }
