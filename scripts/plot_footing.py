@@ -1,11 +1,11 @@
 #!/usr/bin/python3
-"""Plot the strip-footing verification: footing pressure against settlement.
+"""Plot a footing verification: footing pressure against settlement, one or more curves.
 
-    /usr/bin/python3 scripts/plot_footing.py LOAD_SETTLEMENT.csv OUT.png "LABEL"
+    /usr/bin/python3 scripts/plot_footing.py OUT.png "TITLE" "REFERENCE" CSV LABEL [CSV LABEL ...]
 
-LOAD_SETTLEMENT.csv (written by src/verify/case_strip_footing.cpp) has columns settlement_m,
-settlement_over_B, pressure_Pa, pressure_over_prandtl. The pressure is drawn normalised by
-Prandtl's limit (2 + pi) c, with the 3 % band the verification allows around it.
+Each CSV (written by src/verify/footing_curve.cpp) has columns settlement_m, settlement_over_B,
+pressure_Pa, pressure_over_reference. The pressure is drawn normalised by its curve's limit
+pressure (REFERENCE names it), with the 3 % band the verifications allow around it.
 """
 
 import csv
@@ -17,30 +17,40 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def main():
-    if len(sys.argv) != 4:
-        sys.exit("usage: plot_footing.py LOAD_SETTLEMENT.csv OUT.png LABEL")
+def read_curve(path):
     settlement, pressure = [], []
-    with open(sys.argv[1]) as f:
+    with open(path) as f:
         for row in csv.DictReader(f):
             settlement.append(100.0 * float(row["settlement_over_B"]))
-            pressure.append(float(row["pressure_over_prandtl"]))
+            pressure.append(float(row["pressure_over_reference"]))
+    return settlement, pressure
+
+
+def main():
+    if len(sys.argv) < 6 or len(sys.argv) % 2 != 0:
+        sys.exit('usage: plot_footing.py OUT.png "TITLE" "REFERENCE" CSV LABEL [CSV LABEL ...]')
+    out, title, reference = sys.argv[1:4]
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.axhspan(0.97, 1.03, color="0.9", label="±3 % of (2 + π) c")
-    ax.axhline(1.0, color="black", linewidth=1, label="Prandtl: (2 + π) c")
-    ax.plot(settlement, pressure, "o-", color="tab:blue", markersize=3,
-            label=f"Talus, {sys.argv[3]}")
-    peak = max(range(len(pressure)), key=pressure.__getitem__)
-    ax.plot(settlement[peak], pressure[peak], "s", color="tab:red",
-            label=f"peak {pressure[peak]:.4f}")
+    ax.axhspan(0.97, 1.03, color="0.9", label="±3 % of the limit pressure")
+    ax.axhline(1.0, color="black", linewidth=1, label=reference)
+    colours = ["tab:blue", "tab:orange", "tab:green", "tab:purple"]
+    for k in range(4, len(sys.argv), 2):
+        settlement, pressure = read_curve(sys.argv[k])
+        colour = colours[(k // 2 - 2) % len(colours)]
+        ax.plot(settlement, pressure, "o-", color=colour, markersize=3,
+                label=f"Talus, {sys.argv[k + 1]}")
+        peak = max(range(len(pressure)), key=pressure.__getitem__)
+        ax.plot(settlement[peak], pressure[peak], "s", color="tab:red")
+        ax.annotate(f"{pressure[peak]:.4f}", (settlement[peak], pressure[peak]),
+                    textcoords="offset points", xytext=(4, -12), fontsize=8, color=colour)
     ax.set_xlabel("settlement / B [%]")
-    ax.set_ylabel("footing pressure / ((2 + π) c)")
-    ax.set_title("Smooth strip footing on Tresca soil")
+    ax.set_ylabel("footing pressure / limit pressure")
+    ax.set_title(title)
     ax.set_ylim(bottom=0)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=130)
+    fig.savefig(out, dpi=130)
 
 
 if __name__ == "__main__":

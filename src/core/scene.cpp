@@ -161,6 +161,7 @@ void add_body(Scene<Dim>& scene, const BodySpec& body, int body_index,
   const auto& grid = scene.grid;
   const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
   auto& P = scene.particles;
+  const bool axisymmetric = scene.spec.geometry == Geometry::Axisymmetric;
   std::vector<Index> created;
   // A fixed generator and distribution arithmetic of our own: std::uniform_real_distribution is
   // implementation-defined, and the same seed must give the same points on every platform (so
@@ -192,7 +193,9 @@ void add_body(Scene<Dim>& scene, const BodySpec& body, int body_index,
     const auto s = static_cast<std::size_t>(p);
     P.x[s] = x;
     P.x0[s] = x;
-    P.volume0[s] = std::pow(spacing, Dim);
+    // Axisymmetry: the ring the voxel sweeps, per radian (Pappus: its area times the radius
+    // of its centroid, the lattice site).
+    P.volume0[s] = std::pow(spacing, Dim) * (axisymmetric ? site[0] : 1.0);
     P.volume[s] = P.volume0[s];
     P.mass[s] = mat.density * P.volume0[s];
     P.half_size0[s] = Vec<Dim>::Constant(0.5 * spacing);
@@ -286,10 +289,14 @@ template <int Dim> void apply_tractions(Scene<Dim>& scene, const std::vector<Vec
       load.particle = p;
       load.offset = lattice[s] - P.x[s];
       load.offset[axis] += (upper ? 1.0 : -1.0) * P.half_size0[s][axis];
-      double face = 1.0; // the voxel face's length (2D) or area (3D)
+      // The voxel face's length (2D), area (3D), or per radian the area of the ring it sweeps
+      // (axisymmetry: its length times the radius of its midpoint).
+      double face = 1.0;
       for (int d = 0; d < Dim; ++d)
         if (d != axis)
           face *= 2.0 * P.half_size0[s][d];
+      if (scene.spec.geometry == Geometry::Axisymmetric)
+        face *= P.x[s][0] + load.offset[0];
       load.force = head<Dim>(t.traction) * face;
       // Only an implicit analysis has a load factor; explicit loads are always in full.
       load.constant = t.constant && scene.spec.analysis != AnalysisType::Explicit;
@@ -331,6 +338,11 @@ template <int Dim> void constrain_faces(Scene<Dim>& scene) {
       }
     }
   }
+  // Axisymmetry: a node on the axis (or behind it) moves along it only, whatever the faces say.
+  if (scene.spec.geometry == Geometry::Axisymmetric)
+    for (Index id = 0; id < g.node_count(); ++id)
+      if (g.node_position(g.node_ijk(id))[0] <= 1e-9 * g.cell_size())
+        scene.constrained[static_cast<std::size_t>(id)] |= 1u;
 }
 
 // Geostatic or uniform initial stresses of the bodies that ask for one: the particles' stress

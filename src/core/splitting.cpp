@@ -69,19 +69,21 @@ template <int Dim> Index split_point(Particles<Dim>& P, Index p, int axis) {
 namespace {
 
 // A traction on the face of split point p (reference offset o from its centre): a face across
-// the cut (o_axis = 0) is shared, half the force on each child at the same offset; a face
-// normal to the cut belongs to the child on its side, at the child's half-width.
+// the cut (o_axis = 0) is shared, the fractions share_p and share_q of the force on the
+// children at the same offset (halves; in axisymmetry each half's ring); a face normal to the
+// cut belongs to the child on its side, at the child's half-width.
 template <int Dim>
 void move_surface_loads(std::vector<SurfaceLoad<Dim>>& loads, Index p, Index q, int axis,
-                        double child_half) {
+                        double child_half, double share_p, double share_q) {
   const std::size_t count = loads.size();
   for (std::size_t k = 0; k < count; ++k) {
     SurfaceLoad<Dim>& load = loads[k];
     if (load.particle != p)
       continue;
     if (load.offset[axis] == 0.0) {
-      load.force *= 0.5;
       SurfaceLoad<Dim> copy = load;
+      load.force *= share_p;
+      copy.force *= share_q;
       copy.particle = q;
       loads.push_back(copy);
       continue;
@@ -119,12 +121,28 @@ template <int Dim> Index split_material_points(Scene<Dim>& scene) {
     return 0;
   std::vector<Index> sources;
   sources.reserve(splits.size());
+  const bool axisymmetric = scene.spec.geometry == Geometry::Axisymmetric;
   for (const auto& [p, axis] : splits) {
+    const double radius = P.x[static_cast<std::size_t>(p)][0];
     const Index q = split_point(P, p, axis);
     sources.push_back(p);
     const auto s = static_cast<std::size_t>(p);
+    double share_p = 0.5, share_q = 0.5;
+    if (axisymmetric) {
+      // Each half sweeps its own ring: mass and volume go with the child's radius (Pappus), so
+      // the two rings hold the parent's exactly (the children sit at r -+ the same shift).
+      share_p = 0.5 * P.x[s][0] / radius;
+      share_q = 0.5 * P.x[static_cast<std::size_t>(q)][0] / radius;
+      for (const auto& [c, share] : {std::pair{s, share_p},
+                                     std::pair{static_cast<std::size_t>(q), share_q}}) {
+        P.mass[c] *= 2.0 * share;
+        P.volume0[c] *= 2.0 * share;
+        P.volume[c] *= 2.0 * share;
+      }
+    }
     scene.particles_of_material[static_cast<std::size_t>(P.material[s])].push_back(q);
-    move_surface_loads<Dim>(scene.surface_loads, p, q, axis, P.half_size0[s][axis]);
+    move_surface_loads<Dim>(scene.surface_loads, p, q, axis, P.half_size0[s][axis], share_p,
+                            share_q);
   }
   for (const auto& material : scene.materials)
     material->append_copies(old_count, sources);

@@ -124,6 +124,13 @@ int Validator::dimension(const Item& it) const {
   return static_cast<int>(d);
 }
 
+Geometry Validator::geometry(const Item& it) const {
+  if (dimension_ == 3)
+    fail(it, "geometry applies to a 2D case (plane_strain or axisymmetric); a 3D case is "
+             "neither: remove the key");
+  return choice(it, geometry_choices());
+}
+
 GridSpec Validator::grid(const Item& it) const {
   const Map m(*this, it, {"origin", "extent", "cell_size"});
   GridSpec g;
@@ -167,7 +174,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (!root.IsMap())
     fail(top_item, "a case file must be a map of keys (name:, grid:, ...), got " + describe(root));
   const Map top(*this, top_item,
-                {"name", "analysis", "dimension", "grid", "materials", "bodies", "gravity",
+                {"name", "analysis", "dimension", "geometry", "grid", "materials", "bodies", "gravity",
                  "boundaries", "point_loads", "tractions", "prescribed", "time", "output", "probes",
                  "solver", "strength_reduction", "stages"});
   CaseSpec spec;
@@ -177,6 +184,9 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (top.has("dimension"))
     spec.dimension = dimension(top["dimension"]);
   dimension_ = spec.dimension;
+  if (top.has("geometry"))
+    spec.geometry = geometry(top["geometry"]);
+  axisymmetric_ = spec.geometry == Geometry::Axisymmetric;
   spec.grid = grid(top.required("grid"));
   spec.materials = materials(top.required("materials"));
   if (top.has("gravity"))

@@ -15,6 +15,12 @@ const Choices<AnalysisType>& analysis_choices() {
   return c;
 }
 
+const Choices<Geometry>& geometry_choices() {
+  static const Choices<Geometry> c{{"plane_strain", Geometry::PlaneStrain},
+                                   {"axisymmetric", Geometry::Axisymmetric}};
+  return c;
+}
+
 const Choices<MaterialModel>& material_model_choices() {
   static const Choices<MaterialModel> c{{"linear_elastic", MaterialModel::LinearElastic},
                                         {"neo_hookean", MaterialModel::NeoHookean},

@@ -60,12 +60,17 @@ std::vector<BodySpec> Validator::bodies(const Item& it, const CaseSpec& spec) co
       if (dimension_ == 3)
         fail(m.key("angular_velocity"), "angular_velocity is a spin about z of a 2D body; a 3D "
                                         "case has no such key yet");
+      if (axisymmetric_)
+        fail(m.key("angular_velocity"), "angular_velocity spins a body in its plane, which an "
+                                        "axisymmetric body (a ring of revolution) cannot do");
       b.angular_velocity = number(m["angular_velocity"]);
     }
     if (m.present("placement"))
       b.placement = placement(m["placement"]);
 
     body_inside_grid(m, b, spec.grid);
+    if (axisymmetric_)
+      body_off_axis(m, b);
     if (m.present("initial_stress"))
       b.initial_stress = initial_stress(m["initial_stress"], b, spec);
     if (m.present("split"))

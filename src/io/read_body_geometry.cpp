@@ -198,6 +198,32 @@ void Validator::body_inside_grid(const Map& m, const BodySpec& b, const GridSpec
   }
 }
 
+void Validator::body_off_axis(const Map& m, const BodySpec& b) const {
+  const std::string head = "body '" + b.name + "' reaches r = x < 0 in an axisymmetric case ";
+  const char* fix = "; a body of revolution lies in r >= 0, its axis at x = 0";
+  switch (b.shape) {
+  case BodyShape::Rectangle:
+    if (b.min.x() < 0)
+      fail(m["min"], head + "(min x = " + num(b.min.x()) + ")" + fix);
+    break;
+  case BodyShape::Disc:
+    if (b.centre.x() - b.radius < 0)
+      fail(m["radius"], head + "(the disc reaches x = " + num(b.centre.x() - b.radius) + ")" + fix);
+    break;
+  case BodyShape::Polygon: {
+    const Item vertices = m["vertices"];
+    for (std::size_t i = 0; i < b.vertices.size(); ++i)
+      if (b.vertices[i].x() < 0)
+        fail(Item{vertices.node[i], mark_or(vertices.node[i], vertices.mark),
+                  child_path(vertices.path, i)},
+             head + "(vertex " + vec(b.vertices[i]) + ")" + fix);
+    break;
+  }
+  case BodyShape::Cylinder: // a 3D shape: the reader refused it in 2D
+    break;
+  }
+}
+
 } // namespace talus::detail
 
 namespace talus::detail {

@@ -426,11 +426,14 @@ private:
   std::string case_name(const Item& it) const;
   AnalysisType analysis(const Item& it) const;
   int dimension(const Item& it) const;
+  Geometry geometry(const Item& it) const;
   GridSpec grid(const Item& it) const;
   std::vector<MaterialSpec> materials(const Item& it) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;
   void body_shape(const Map& m, BodySpec& b) const;
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;
+  /// Axisymmetry: the body lies in r = x >= 0 (a body of revolution cannot cross its axis).
+  void body_off_axis(const Map& m, const BodySpec& b) const;
   BoundarySpec boundaries(const Item& it) const;
   std::vector<PointLoadSpec> point_loads(const Item& it, const CaseSpec& spec) const;
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
@@ -481,6 +484,7 @@ private:
   /// The case's dimension, known once the top level's `dimension` is read: the points read
   /// after it have as many components.
   mutable int dimension_ = 2;
+  mutable bool axisymmetric_ = false; ///< the case's geometry, known with its dimension
 };
 
 /// The output defaults: the six fields, plus plastic_strain when the case has an

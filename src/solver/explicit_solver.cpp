@@ -11,7 +11,12 @@ namespace talus {
 
 namespace {
 
-template <int Dim, class Shape> class ExplicitSolverImpl final : public ExplicitSolver {
+// Axisymmetric (Dim 2 only): x = r, y = z, volumes and masses per radian. The hoop stretch
+// moves with the radial velocity, L33 = sum_i N_i v_i,r / r, and the hoop stress pulls the
+// radial force, f_i,r -= V sigma33 N_i / r, both at the radius r_n where the weights are taken.
+template <int Dim, class Shape, bool Axisymmetric>
+class ExplicitSolverImpl final : public ExplicitSolver {
+  static_assert(Dim == 2 || !Axisymmetric, "axisymmetry is a 2D geometry");
   using V = Vec<Dim>;
   using M = Mat<Dim>;
 
@@ -36,6 +41,12 @@ public:
 
   void step(double dt) override {
     map_.update(scene_.grid, scene_.particles);
+    if constexpr (Axisymmetric) {
+      const auto& P = scene_.particles;
+      radius_n_.resize(at(P.size()));
+      for (std::size_t s = 0; s < radius_n_.size(); ++s)
+        radius_n_[s] = P.x[s][0];
+    }
     switch (scene_.spec.solver.scheme) {
     case UpdateScheme::USF:
       gather_mass_momentum();
@@ -132,6 +143,8 @@ private:
         const auto s = at(p);
         const M sigma = P.stress[s].template topLeftCorner<Dim, Dim>();
         f -= P.volume[s] * (sigma * grad);
+        if constexpr (Axisymmetric)
+          f[0] -= P.volume[s] * P.stress[s](2, 2) * w / radius_n_[s];
         f += w * (P.external_force[s] + P.mass[s] * g);
       });
       force_[at(n)] = f;
@@ -279,13 +292,21 @@ private:
     auto& P = scene_.particles;
     parallel_for(P.size(), [&](Index p) {
       M L = M::Zero();
-      map_.for_each_node_of(
-          p, [&](Index n, double, const V& grad) { L += velocity_[at(n)] * grad.transpose(); });
+      [[maybe_unused]] double v_r = 0; // the radial velocity at the point (axisymmetry)
+      map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+        L += velocity_[at(n)] * grad.transpose();
+        if constexpr (Axisymmetric)
+          v_r += w * velocity_[at(n)][0];
+      });
       const M half = 0.5 * dt * L;
       const M dF = apic_ ? M(M::Identity() + dt * L)
                          : M((M::Identity() - half).inverse() * (M::Identity() + half));
       const auto s = at(p);
       P.advance_F(s, dF);
+      if constexpr (Axisymmetric) { // the same increment rule on the hoop rate L33
+        const double L33 = v_r / radius_n_[s];
+        P.F[s](2, 2) *= apic_ ? 1.0 + dt * L33 : (1.0 + 0.5 * dt * L33) / (1.0 - 0.5 * dt * L33);
+      }
       P.volume[s] = P.F[s].determinant() * P.volume0[s];
     });
     update_stress();
@@ -302,20 +323,25 @@ private:
   std::vector<double> mass_;
   std::vector<V> momentum_, force_, velocity_, acceleration_;
   std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
+  std::vector<double> radius_n_; // axisymmetry: the points' radii at the start of the step
   FaceReactions reactions_{};
   bool apic_ = false;
 };
 
 /// ExplicitSolverImpl of one dimension, as a template of the shape function alone.
-template <int Dim> struct ExplicitIn {
-  template <class Shape> using Solver = ExplicitSolverImpl<Dim, Shape>;
+template <int Dim, bool Axisymmetric> struct ExplicitIn {
+  template <class Shape> using Solver = ExplicitSolverImpl<Dim, Shape, Axisymmetric>;
 };
 
 } // namespace
 
 template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene) {
-  return make_for_shape<ExplicitSolver, ExplicitIn<Dim>::template Solver>(scene.spec.solver.shape,
-                                                                          scene);
+  if constexpr (Dim == 2)
+    if (scene.spec.geometry == Geometry::Axisymmetric)
+      return make_for_shape<ExplicitSolver, ExplicitIn<2, true>::template Solver>(
+          scene.spec.solver.shape, scene);
+  return make_for_shape<ExplicitSolver, ExplicitIn<Dim, false>::template Solver>(
+      scene.spec.solver.shape, scene);
 }
 
 template std::unique_ptr<ExplicitSolver> make_explicit_solver<2>(Scene<2>&);

@@ -2,8 +2,9 @@
 // F-bar (f_bar.hpp) in the implicit step: the cells' volume averages at a trial increment, the
 // points' F-bar step gradient, and the tangent's coupling of the points of a cell through
 // J_bar_c, one rank-one block u v^T per cell over the union of its points' stencils:
-//   u_ia = sum_p V0_p (H_p grad N_i(x_p))_a,   v_kc = sum_q w_q j_q (dF_q^-T grad N_k(x_q))_c,
-// since dJ_bar = sum_q w_q j_q dF_q^-T : d(dF_q) and d(dF_q) = sum_k du_k grad N_k^T
+//   u_ia = sum_p V0_p H_p : B_ia(x_p),   v_kc = sum_q w_q j_q dF_q^-T : B_kc(x_q),
+// since dJ_bar = sum_q w_q j_q dF_q^-T : d(dF_q) and d(dF_q) = sum_k,c B_kc du_kc, where
+// B_kc = e_c grad N_k^T, plus N_k / r e_3 e_3^T for c = r in axisymmetry (the hoop stretch)
 // (H_p = dG_p/dJ_bar, step_tangent.hpp).
 #include "step_tangent.hpp"
 #include "talus/core/particles.hpp"
@@ -19,9 +20,10 @@
 
 namespace talus {
 
-template <int Dim> class FBarStep {
+template <int Dim, bool Axisymmetric> class FBarStep {
   using V = Vec<Dim>;
   using M = Mat<Dim>;
+  using Components = StepComponents<Dim, Axisymmetric>;
 
 public:
   /// Groups the points by cell at the step's start.
@@ -32,7 +34,7 @@ public:
   }
   void resize(Index points) {
     trial_j_.resize(at(points), 1.0);
-    dG_dJbar_.resize(at(points), M::Zero());
+    dG_dJbar_.resize(at(points), StepVector<Dim, Axisymmetric>::Zero());
   }
 
   /// F-bar couples the points of a cell: a share must hold every point of the cells it
@@ -51,13 +53,15 @@ public:
     }
   }
 
-  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/Dim)
-  /// dF_p; false if a point or a cell average has lost its volume (j <= 0).
-  bool apply(const ParticleShare& share, const Particles<Dim>& P, const std::vector<M>& trial_dF,
+  /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/n)
+  /// dF_p over the n axes of StepComponents; false if a point or a cell average has lost its
+  /// volume (j <= 0). step_gradient(p) is the point's 3x3 trial step gradient.
+  template <class StepGradient>
+  bool apply(const ParticleShare& share, const Particles<Dim>& P, StepGradient&& step_gradient,
              std::vector<Mat3>& trial_F) {
     cell_j_bar_.resize(at(cells_.cell_count()));
     for (Index p = share.begin; p < share.end; ++p) {
-      trial_j_[at(p)] = trial_dF[at(p)].determinant();
+      trial_j_[at(p)] = step_gradient(p).determinant();
       cell_j_bar_[at(cells_.cell_of(p))] = 0.0;
     }
     for (Index p = share.begin; p < share.end; ++p)
@@ -66,7 +70,7 @@ public:
       const double j = trial_j_[at(p)], j_bar = j_bar_of(p);
       if (!(j > 0 && j_bar > 0))
         return false;
-      trial_F[at(p)] = embedded<Dim>(M(f_bar_scale<Dim>(j_bar / j) * trial_dF[at(p)])) * P.F[at(p)];
+      trial_F[at(p)] = scaled(step_gradient(p), f_bar_scale<Components::kAxes>(j_bar / j)) * P.F[at(p)];
     }
     return true;
   }
@@ -75,8 +79,10 @@ public:
   double volume_ratio(Index p) const { return trial_j_[at(p)] / j_bar_of(p); }
 
   /// dG/d(dF) of point p at fixed J_bar; keeps dG/dJ_bar for the cell coupling.
-  StepTangent<Dim> step_tangent_of(Index p, const M& dF, const Mat3& Fn, const StressTangent& st) {
-    return f_bar_step_tangent<Dim>(dF, Fn, st, trial_j_[at(p)], j_bar_of(p), dG_dJbar_[at(p)]);
+  StepTangent<Dim, Axisymmetric> step_tangent_of(Index p, const Mat3& dF, const Mat3& Fn,
+                                                 const StressTangent& st) {
+    return f_bar_step_tangent<Dim, Axisymmetric>(dF, Fn, st, trial_j_[at(p)], j_bar_of(p),
+                                                 dG_dJbar_[at(p)]);
   }
 
   /// f(nodes) with the union of the stencils of each cell's points, for every cell of the share
@@ -91,9 +97,9 @@ public:
   }
 
   /// Adds the rank-one coupling u v^T of every cell of the share.
-  template <class Map>
+  template <class Map, class StepGradient>
   void add_coupling(const ParticleShare& share, const Map& map, const Particles<Dim>& P,
-                    const std::vector<M>& trial_dF, LatticeAssembler<Dim>& tangent) {
+                    StepGradient&& step_gradient, LatticeAssembler<Dim>& tangent) {
     const auto& points = cells_.points();
     for (Index first = share.begin; first < share.end; ++first) {
       if (!is_first_of_cell(first))
@@ -107,13 +113,20 @@ public:
         node_slot_[at(cell_nodes_[k])] = static_cast<Index>(k);
       for (Index k = cells_.begin(c); k < cells_.end(c); ++k) {
         const Index p = points[at(k)];
-        const M H = P.volume0[at(p)] * dG_dJbar_[at(p)];
-        const M dFinv_T = trial_dF[at(p)].inverse().transpose();
+        const StepVector<Dim, Axisymmetric> H = P.volume0[at(p)] * dG_dJbar_[at(p)];
+        const M H_block = Eigen::Map<const Eigen::Matrix<double, Dim, Dim, Eigen::RowMajor>>(H.data());
+        const Mat3 dF = step_gradient(p); // block diagonal: the block and the hoop stretch
+        const M dFinv_T = M(dF.template topLeftCorner<Dim, Dim>()).inverse().transpose();
         const double wj = cells_.weight(p) * trial_j_[at(p)];
-        map.for_each_node_of(p, [&](Index node, double, const V& grad) {
+        const double r = P.x[at(p)][0];
+        map.for_each_node_of(p, [&](Index node, double w, const V& grad) {
           const Eigen::Index slot = Dim * node_slot_[at(node)];
-          u_.template segment<Dim>(slot) += H * grad;
+          u_.template segment<Dim>(slot) += H_block * grad;
           v_.template segment<Dim>(slot) += wj * (dFinv_T * grad);
+          if constexpr (Axisymmetric) { // the hoop stretch moves with the radial component
+            u_[slot] += H[Components::kHoop] * w / r;
+            v_[slot] += wj * w / (r * dF(2, 2));
+          }
         });
       }
       for (const Index node : cell_nodes_)
@@ -125,6 +138,13 @@ public:
 
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
+  /// k dF on the components the step reaches (plane strain keeps dF33 = 1).
+  static Mat3 scaled(Mat3 dF, double k) {
+    if constexpr (Components::kAxes == 3)
+      return k * dF;
+    dF.template topLeftCorner<Dim, Dim>() *= k;
+    return dF;
+  }
   double j_bar_of(Index p) const { return cell_j_bar_[at(cells_.cell_of(p))]; }
   bool is_first_of_cell(Index p) const {
     return cells_.points()[at(cells_.begin(cells_.cell_of(p)))] == p;
@@ -143,7 +163,7 @@ private:
   FBarCells cells_;                ///< the points of each cell, at the step's start
   std::vector<double> trial_j_;    ///< per point: det dF at the trial increment
   std::vector<double> cell_j_bar_; ///< per cell: volume-weighted average of j
-  std::vector<M> dG_dJbar_;        ///< per point: H = dG/dJ_bar (f_bar_step_tangent)
+  std::vector<StepVector<Dim, Axisymmetric>> dG_dJbar_; ///< per point: H = dG/dJ_bar
   std::vector<Index> node_slot_;   ///< per grid node: its place in cell_nodes_, -1 outside
   std::vector<Index> cell_nodes_;  ///< the nodes of the cell being coupled
   Eigen::VectorXd u_, v_;          ///< the cell's rank-one factors, Dim entries per node

@@ -149,6 +149,15 @@ void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& no
   }
 }
 
+template <int Dim> void GhostPenalty<Dim>::weight_by_radius(const Grid<Dim>& grid) {
+  for (Face& face : faces_) {
+    double r = 0;
+    for (int t = 0; t < kTangentialNodes; ++t)
+      r += grid.node_position(grid.node_ijk(face.nodes[static_cast<std::size_t>(kTangentialNodes + t)]))[0];
+    face.stiffness *= r / kTangentialNodes;
+  }
+}
+
 template class GhostPenalty<2>;
 template class GhostPenalty<3>;
 

@@ -31,11 +31,15 @@ constexpr double kRoundOffFloor = 100.0;
 
 using Clock = std::chrono::steady_clock;
 
-template <int Dim, class Shape>
+// Axisymmetric (Dim 2 only): x = r, y = z, volumes per radian; the step gradient gains the hoop
+// stretch dF33 = 1 + u_r / r_n (StepComponents), the internal force its term
+// f_i,r += V0 G33 N_i / r_n, and the tangent the matching rows and columns.
+template <int Dim, class Shape, bool Axisymmetric>
 class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
   using V = Vec<Dim>;
   using M = Mat<Dim>;
   using Ghost = GhostPenalty<Dim>;
+  using Components = StepComponents<Dim, Axisymmetric>;
 
 public:
   ImplicitSolverImpl(Scene<Dim>& scene, double prescribed_fraction_reached)
@@ -141,6 +145,8 @@ public:
     const auto np = at(scene_.particles.size());
     trial_F_.resize(np, Mat3::Identity());
     trial_dF_.resize(np, M::Identity());
+    if constexpr (Axisymmetric)
+      trial_hoop_.resize(np, 1.0);
     response_.resize(np);
     if (f_bar_)
       f_bar_step_.resize(static_cast<Index>(np));
@@ -279,7 +285,6 @@ private:
   // points' internal forces and the ghost-penalty forces of its faces.
   void assemble_residual(const ParticleShare& share, const DofMap& map, const Eigen::VectorXd& du,
                          Eigen::VectorXd& r) const {
-    const auto& P = scene_.particles;
     r.setZero(map.overlap_count());
     const auto& gids = map.overlap_gids();
     for (Index l = 0; l < map.owned_count(); ++l) {
@@ -288,22 +293,33 @@ private:
       if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
         r[l] += dof_mass_[at(gid)] * newmark_acceleration(gid, du[l]);
     }
-    for (Index p = share.begin; p < share.end; ++p) {
-      const auto s = at(p);
-      const Mat3 dF_inv = embedded<Dim>(trial_dF_[s]).inverse();
-      // V0 tau dF^-T: the first Piola stress of the step, times the reference volume.
-      const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
-      const M G2 = G.topLeftCorner<Dim, Dim>();
-      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        const V f = G2 * grad;
+    for (Index p = share.begin; p < share.end; ++p)
+      for_each_internal_force(p, [&](Index n, double, const V& f) {
         for (int a = 0; a < Dim; ++a)
           if (const Index dof = local_dof(map, n, a); dof >= 0)
             r[dof] += f[a];
       });
-    }
     for_each_ghost_force(map, du, [&](Index n, int a, double f) {
       if (const Index dof = local_dof(map, n, a); dof >= 0)
         r[dof] += f;
+    });
+  }
+
+  /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's internal
+  /// force at its trial state: V0 G grad N, G = tau dF^-T the step's first Piola stress (and
+  /// F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the radial component.
+  template <class F> void for_each_internal_force(Index p, F&& f) const {
+    const auto s = at(p);
+    const Mat3 dF_inv = step_gradient(s).inverse();
+    const Mat3 G = scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff *
+                   dF_inv.transpose();
+    const M G2 = G.topLeftCorner<Dim, Dim>();
+    [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
+    map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+      V force = G2 * grad;
+      if constexpr (Axisymmetric)
+        force[0] += hoop_per_weight * w;
+      f(n, w, force);
     });
   }
 
@@ -356,8 +372,9 @@ private:
   }
 
   // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's nodes,
-  // B mapping the nodal increments to grad(du) (row Dim a + b: du_a/dx_b) and A = dG/d(dF) the
-  // step tangent; the F-bar cell coupling; the ghost-penalty face blocks, per component; the
+  // B mapping the nodal increments to the step components (row Dim a + b: du_a/dx_b; in
+  // axisymmetry the hoop row u_r N / r_n) and A = dG/d(dF) the step tangent; the F-bar cell
+  // coupling; the ghost-penalty face blocks, per component; the
   // Newmark mass of its owned DOFs.
   void assemble_tangent(const ParticleShare& share, const DofMap& map,
                         LatticeAssembler<Dim>& tangent) {
@@ -365,28 +382,44 @@ private:
     constexpr int kDofs = Dim * kNodes;
     const auto& P = scene_.particles;
     Eigen::Matrix<double, Dim, kNodes> grads;
-    Eigen::Matrix<double, Dim * Dim, kDofs> AB;
+    [[maybe_unused]] Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
+    Eigen::Matrix<double, Components::kCount, kDofs> AB;
     Eigen::Matrix<double, kDofs, kDofs> K;
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;
-      map_.for_each_node_of(p, [&](Index, double, const V& grad) { grads.col(k++) = grad; });
+      map_.for_each_node_of(p, [&](Index, double w, const V& grad) {
+        if constexpr (Axisymmetric)
+          hoop[k] = w / radius_n(s);
+        grads.col(k++) = grad;
+      });
       // B has one gradient per column (rows Dim c .. Dim c + Dim - 1 of column (j, c)) and per
-      // row of B^T, so both products take Dim terms per entry instead of Dim^2.
-      const StepTangent<Dim> A = point_step_tangent(s);
+      // row of B^T, so both products take Dim terms per entry instead of Dim^2; the hoop row
+      // adds one term to the radial columns and rows.
+      const StepTangent<Dim, Axisymmetric> A = point_step_tangent(s);
       for (int j = 0; j < kNodes; ++j)
-        for (int c = 0; c < Dim; ++c)
+        for (int c = 0; c < Dim; ++c) {
           AB.col(Dim * j + c) = A.template middleCols<Dim>(Dim * c) * grads.col(j);
+          if constexpr (Axisymmetric)
+            if (c == 0)
+              AB.col(Dim * j) += A.col(Components::kHoop) * hoop[j];
+        }
       const double V0 = P.volume0[s];
       for (int col = 0; col < kDofs; ++col)
         for (int i = 0; i < kNodes; ++i)
-          for (int a = 0; a < Dim; ++a)
-            K(Dim * i + a, col) = V0 * grads.col(i).dot(AB.col(col).template segment<Dim>(Dim * a));
+          for (int a = 0; a < Dim; ++a) {
+            double v = grads.col(i).dot(AB.col(col).template segment<Dim>(Dim * a));
+            if constexpr (Axisymmetric)
+              if (a == 0)
+                v += hoop[i] * AB(Components::kHoop, col);
+            K(Dim * i + a, col) = V0 * v;
+          }
       const auto nodes = map_.stencil_nodes(p);
       tangent.add_block(nodes, K);
     }
     if (f_bar_)
-      f_bar_step_.add_coupling(share, map_, P, trial_dF_, tangent);
+      f_bar_step_.add_coupling(
+          share, map_, P, [&](Index q) { return step_gradient(at(q)); }, tangent);
     const auto& G = Ghost::face_matrix();
     for (const auto& face : ghost_.faces()) {
       if (!map.owns_node(Ghost::anchor(face)))
@@ -525,7 +558,11 @@ private:
     std::array<bool, 2 * Dim> mirror_faces{};
     for (int f = 0; f < 2 * Dim; ++f)
       mirror_faces[at(f)] = scene_.spec.boundaries[f] == FaceCondition::Roller;
+    if constexpr (Axisymmetric) // the axis is a symmetry line whatever x_min's condition
+      mirror_faces[0] = mirror_faces[0] || scene_.grid.origin()[0] == 0.0;
     ghost_.build(scene_.grid, node_active_, node_modulus_, gamma, mirror_faces);
+    if constexpr (Axisymmetric)
+      ghost_.weight_by_radius(scene_.grid);
   }
 
   void add_external(Index n, const V& f) {
@@ -544,15 +581,24 @@ private:
     const auto& P = scene_.particles;
     trial_dF_.resize(at(P.size()));
     state_valid_ = false;
+    if constexpr (Axisymmetric)
+      trial_hoop_.resize(at(P.size()));
     for (Index p = share.begin; p < share.end; ++p) {
       M dF = M::Identity();
-      map_.for_each_node_of(p, [&](Index n, double, const V& grad) {
-        dF += node_increment(map, n, du) * grad.transpose();
+      [[maybe_unused]] double u_r = 0; // the radial increment at the point (axisymmetry)
+      map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+        const V u = node_increment(map, n, du);
+        dF += u * grad.transpose();
+        if constexpr (Axisymmetric)
+          u_r += w * u[0];
       });
       trial_dF_[at(p)] = dF;
-      trial_F_[at(p)] = embedded<Dim>(dF) * P.F[at(p)];
+      if constexpr (Axisymmetric)
+        trial_hoop_[at(p)] = 1.0 + u_r / radius_n(at(p)); // r_{n+1} / r_n
+      trial_F_[at(p)] = step_gradient(at(p)) * P.F[at(p)];
     }
-    if (f_bar_ && !f_bar_step_.apply(share, P, trial_dF_, trial_F_))
+    if (f_bar_ && !f_bar_step_.apply(
+                      share, P, [&](Index q) { return step_gradient(at(q)); }, trial_F_))
       return false; // a cell turned inside out: Newton backtracks, the stepper may cut back
     try {
       for (std::size_t m = 0; m < scene_.materials.size(); ++m)
@@ -580,12 +626,21 @@ private:
   }
 
   /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
-  StepTangent<Dim> point_step_tangent(std::size_t s) {
+  StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
     const Mat3& Fn = scene_.particles.F[s];
     if (!f_bar_)
-      return step_tangent<Dim>(trial_dF_[s], Fn, response_[s]);
-    return f_bar_step_.step_tangent_of(static_cast<Index>(s), trial_dF_[s], Fn, response_[s]);
+      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, response_[s]);
+    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, response_[s]);
   }
+
+  /// The 3x3 trial step gradient of point s: its Dim x Dim block, and the hoop stretch.
+  Mat3 step_gradient(std::size_t s) const {
+    if constexpr (Axisymmetric)
+      return Components::embed(trial_dF_[s], trial_hoop_[s]);
+    return embedded<Dim>(trial_dF_[s]);
+  }
+  /// The radius of point s at the step's start, r_n (axisymmetry; the points move at commit).
+  double radius_n(std::size_t s) const { return scene_.particles.x[s][0]; }
 
   /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
   double volume_ratio(std::size_t s) const {
@@ -602,12 +657,8 @@ private:
     std::vector<double> internal(full_external_.size(), 0.0);
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
-      const Mat3 dF_inv = embedded<Dim>(trial_dF_[s]).inverse();
-      const Mat3 G = P.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
-      const M G2 = G.topLeftCorner<Dim, Dim>();
       V dx = V::Zero();
-      map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
-        const V f = G2 * grad;
+      for_each_internal_force(p, [&](Index n, double w, const V& f) {
         for (int a = 0; a < Dim; ++a)
           internal[at(Dim * n + a)] += f[a];
         dx += w * node_increment(serial_map_, n, du);
@@ -687,6 +738,7 @@ private:
   std::vector<double> full_external_;
   double force_scale_ = 1;
   std::vector<M> trial_dF_;
+  std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
   std::vector<Mat3> trial_F_;
   std::vector<StressTangent> response_;
   bool state_valid_ = false;  ///< trial_dF_, trial_F_, response_ hold state_share_ at state_du_
@@ -715,11 +767,11 @@ private:
   double dt_ = 1;
   std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
   bool f_bar_ = false;                             ///< F-bar volume averaging per cell (f_bar.hpp)
-  FBarStep<Dim> f_bar_step_;
+  FBarStep<Dim, Axisymmetric> f_bar_step_;
 };
 
-template <int Dim> struct ImplicitIn {
-  template <class Shape> using Solver = ImplicitSolverImpl<Dim, Shape>;
+template <int Dim, bool Axisymmetric> struct ImplicitIn {
+  template <class Shape> using Solver = ImplicitSolverImpl<Dim, Shape, Axisymmetric>;
 };
 
 } // namespace
@@ -727,7 +779,11 @@ template <int Dim> struct ImplicitIn {
 template <int Dim>
 std::unique_ptr<ImplicitSolver> make_implicit_solver(Scene<Dim>& scene,
                                                      double prescribed_fraction_reached) {
-  return make_for_shape<ImplicitSolver, ImplicitIn<Dim>::template Solver>(
+  if constexpr (Dim == 2)
+    if (scene.spec.geometry == Geometry::Axisymmetric)
+      return make_for_shape<ImplicitSolver, ImplicitIn<2, true>::template Solver>(
+          scene.spec.solver.shape, scene, prescribed_fraction_reached);
+  return make_for_shape<ImplicitSolver, ImplicitIn<Dim, false>::template Solver>(
       scene.spec.solver.shape, scene, prescribed_fraction_reached);
 }
 

@@ -19,15 +19,13 @@
 // removes, so that the F-bar rows test the remedy and not a scene that never locks.
 // The curve is written as load_settlement.csv and drawn by scripts/plot_footing.py.
 #include "cases.hpp"
-#include "talus/io/csv.hpp"
+#include "footing_curve.hpp"
 #include "talus/post/python_script.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
 namespace talus::verify_cases {
 
@@ -37,56 +35,6 @@ constexpr double kCohesion = 1.0e4;   // Pa, verification/strip_footing.yaml
 constexpr double kHalfWidth = 1.0;    // B / 2, m
 constexpr double kSettlement = 0.035; // final prescribed settlement, m
 constexpr double kPrandtl = (2.0 + std::numbers::pi) * kCohesion;
-
-struct Curve {
-  std::vector<double> settlement, pressure;
-  std::vector<double> step;
-  std::size_t peak() const {
-    return static_cast<std::size_t>(std::max_element(pressure.begin(), pressure.end()) -
-                                    pressure.begin());
-  }
-};
-
-Curve load_settlement(const std::filesystem::path& dir, double end_time) {
-  const CsvTable series = read_csv(dir / "timeseries.csv");
-  const auto& t = series.column("time");
-  const auto& step = series.column("step");
-  const auto& force = series.column("reaction_footing_y");
-  Curve c;
-  for (std::size_t k = 0; k < series.rows(); ++k) {
-    c.settlement.push_back(kSettlement * t[k] / end_time);
-    c.pressure.push_back(-force[k] / kHalfWidth);
-    c.step.push_back(step[k]);
-  }
-  return c;
-}
-
-/// Newton iterations of the converged load steps up to `last_step` (newton.log).
-std::vector<int> newton_iterations(const std::filesystem::path& dir, double last_step) {
-  std::ifstream log(dir / "newton.log");
-  std::vector<int> its;
-  std::string line;
-  while (std::getline(log, line)) {
-    if (line.empty() || line[0] == '#')
-      continue;
-    std::istringstream in(line);
-    double step = 0, t_end = 0, dt = 0;
-    std::string converged;
-    int iterations = 0;
-    in >> step >> t_end >> dt >> converged >> iterations;
-    if (converged == "yes" && step <= last_step)
-      its.push_back(iterations);
-  }
-  return its;
-}
-
-void write_curve_csv(const std::filesystem::path& file, const Curve& c) {
-  std::ofstream out(file);
-  out << "settlement_m,settlement_over_B,pressure_Pa,pressure_over_prandtl\n";
-  for (std::size_t k = 0; k < c.pressure.size(); ++k)
-    out << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", c.settlement[k],
-                       c.settlement[k] / (2 * kHalfWidth), c.pressure[k], c.pressure[k] / kPrandtl);
-}
 
 } // namespace
 
@@ -101,7 +49,8 @@ VerificationCase strip_footing() {
     const CaseSpec spec = load_verification_case(ctx);
     const auto dir = ctx.out_dir / "B_over_h16";
     run_quiet(spec, dir, ctx.threads);
-    const Curve curve = load_settlement(dir, spec.time.end_time);
+    const FootingCurve curve =
+        load_settlement(dir, spec.time.end_time, kSettlement, 1.0 / kHalfWidth);
     const std::size_t peak = curve.peak();
     checks.push_back(relative_check("peak footing pressure, B/h = 16", curve.pressure[peak],
                                     kPrandtl, 0.03,
@@ -117,14 +66,15 @@ VerificationCase strip_footing() {
           at_most_check("Newton iterations per step to the peak, maximum", its.back(), 30.0,
                         "first step: plain Newton abandoned after 11, then line search"));
     }
-    write_curve_csv(ctx.out_dir / "load_settlement.csv", curve);
+    write_curve_csv(ctx.out_dir / "load_settlement.csv", curve, 2 * kHalfWidth, kPrandtl);
     if (ctx.tier == "full")
       for (const bool f_bar : {true, false}) {
         CaseSpec coarse = load_verification_case(
             ctx, {"grid.cell_size=0.25", fmt::format("solver.f_bar={}", f_bar)});
         const auto coarse_dir = ctx.out_dir / (f_bar ? "B_over_h8" : "B_over_h8_no_f_bar");
         run_quiet(coarse, coarse_dir, ctx.threads);
-        const Curve c = load_settlement(coarse_dir, coarse.time.end_time);
+        const FootingCurve c =
+            load_settlement(coarse_dir, coarse.time.end_time, kSettlement, 1.0 / kHalfWidth);
         const double ratio = c.pressure[c.peak()] / kPrandtl;
         checks.push_back(
             f_bar ? relative_check("peak pressure / (2 + pi) c, B/h = 8", ratio, 1.0, 0.05,
@@ -133,8 +83,9 @@ VerificationCase strip_footing() {
                                    "standard F locks: the limit load rises (measured 14.3 %)"));
       }
     run_python_script("plot_footing.py",
-                      {(ctx.out_dir / "load_settlement.csv").string(),
-                       (ctx.out_dir / "load_settlement.png").string(), "B/h = 16, F-bar"});
+                      {(ctx.out_dir / "load_settlement.png").string(),
+                       "Smooth strip footing on Tresca soil", "Prandtl: (2 + pi) c",
+                       (ctx.out_dir / "load_settlement.csv").string(), "B/h = 16, F-bar"});
     return checks;
   };
   return vc;

@@ -22,6 +22,9 @@ VerificationCase self_weight_column();
 VerificationCase single_element();
 VerificationCase grashof();
 VerificationCase strip_footing();
+VerificationCase axisymmetric_cylinder();
+VerificationCase lame_cylinder();
+VerificationCase circular_footing();
 VerificationCase slope_fos();
 // The stability tier (`talus verify --tier stability`).
 VerificationCase stability_explicit_cfl();

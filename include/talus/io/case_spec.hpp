@@ -18,6 +18,10 @@ namespace talus {
 /// implicit_dynamic: Newmark (beta = 1/4, gamma = 1/2) on the grid, Newton at each step,
 /// loads constant in time like the explicit analysis.
 enum class AnalysisType { Explicit, ImplicitQuasistatic, ImplicitDynamic };
+/// What a 2D case stands for: a slice of a long body (plane strain, F33 = 1) or a meridian
+/// plane of a body of revolution about x = 0 (axisymmetry: x = r, y = z, F33 = r / R, volumes
+/// and masses per radian). A 3D case is neither.
+enum class Geometry { PlaneStrain, Axisymmetric };
 enum class ShapeFunction { Linear, Gimp };
 enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
@@ -314,7 +318,8 @@ struct CaseSpec {
   std::string source_text;            ///< verbatim case file text (embedded in run.h5)
   std::vector<std::string> overrides; ///< the --set strings applied, in order
   AnalysisType analysis = AnalysisType::Explicit;
-  int dimension = 2; ///< 2 (plane strain) or 3
+  int dimension = 2; ///< 2 (plane strain or axisymmetric) or 3
+  Geometry geometry = Geometry::PlaneStrain; ///< 2D only (default plane_strain)
   GridSpec grid;
   std::vector<MaterialSpec> materials;
   std::vector<BodySpec> bodies;

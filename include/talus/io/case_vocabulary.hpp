@@ -12,6 +12,7 @@ namespace talus {
 template <class E> using Choices = std::vector<std::pair<std::string, E>>;
 
 const Choices<AnalysisType>& analysis_choices();          ///< analysis, stages[i].analysis
+const Choices<Geometry>& geometry_choices();              ///< geometry (2D)
 const Choices<MaterialModel>& material_model_choices();   ///< materials[i].model
 const Choices<ShapeFunction>& shape_function_choices();   ///< solver.shape
 const Choices<UpdateScheme>& update_scheme_choices();     ///< solver.scheme (explicit)

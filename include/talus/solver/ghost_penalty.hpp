@@ -57,6 +57,10 @@ public:
              const std::vector<double>& node_modulus, double gamma,
              const std::array<bool, 2 * Dim>& mirror_faces = {});
 
+  /// Axisymmetry: the face integral per radian carries the radius, taken at the face's centre
+  /// (the mean x of its on-face nodes); multiplies every face's stiffness by it.
+  void weight_by_radius(const Grid<Dim>& grid);
+
   const std::vector<Face>& faces() const { return faces_; }
   /// (d d^T) (x) M^(x)(Dim-1), the face matrix for unit stiffness.
   static const FaceMatrix& face_matrix();

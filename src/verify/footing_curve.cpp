@@ -1,0 +1,58 @@
+#include "footing_curve.hpp"
+#include "talus/io/csv.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <fstream>
+#include <sstream>
+
+namespace talus::verify_cases {
+
+std::size_t FootingCurve::peak() const {
+  return static_cast<std::size_t>(std::max_element(pressure.begin(), pressure.end()) -
+                                  pressure.begin());
+}
+
+FootingCurve load_settlement(const std::filesystem::path& dir, double end_time, double settlement,
+                             double pressure_per_force) {
+  const CsvTable series = read_csv(dir / "timeseries.csv");
+  const auto& t = series.column("time");
+  const auto& step = series.column("step");
+  const auto& force = series.column("reaction_footing_y");
+  FootingCurve c;
+  for (std::size_t k = 0; k < series.rows(); ++k) {
+    c.settlement.push_back(settlement * t[k] / end_time);
+    c.pressure.push_back(-force[k] * pressure_per_force);
+    c.step.push_back(step[k]);
+  }
+  return c;
+}
+
+std::vector<int> newton_iterations(const std::filesystem::path& dir, double last_step) {
+  std::ifstream log(dir / "newton.log");
+  std::vector<int> its;
+  std::string line;
+  while (std::getline(log, line)) {
+    if (line.empty() || line[0] == '#')
+      continue;
+    std::istringstream in(line);
+    double step = 0, t_end = 0, dt = 0;
+    std::string converged;
+    int iterations = 0;
+    in >> step >> t_end >> dt >> converged >> iterations;
+    if (converged == "yes" && step <= last_step)
+      its.push_back(iterations);
+  }
+  return its;
+}
+
+void write_curve_csv(const std::filesystem::path& file, const FootingCurve& c, double width,
+                     double reference_pressure) {
+  std::ofstream out(file);
+  out << "settlement_m,settlement_over_B,pressure_Pa,pressure_over_reference\n";
+  for (std::size_t k = 0; k < c.pressure.size(); ++k)
+    out << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", c.settlement[k], c.settlement[k] / width,
+                       c.pressure[k], c.pressure[k] / reference_pressure);
+}
+
+} // namespace talus::verify_cases
