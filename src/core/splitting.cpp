@@ -133,8 +133,8 @@ template <int Dim> Index split_material_points(Scene<Dim>& scene) {
       // the two rings hold the parent's exactly (the children sit at r -+ the same shift).
       share_p = 0.5 * P.x[s][0] / radius;
       share_q = 0.5 * P.x[static_cast<std::size_t>(q)][0] / radius;
-      for (const auto& [c, share] : {std::pair{s, share_p},
-                                     std::pair{static_cast<std::size_t>(q), share_q}}) {
+      for (const auto& [c, share] :
+           {std::pair{s, share_p}, std::pair{static_cast<std::size_t>(q), share_q}}) {
         P.mass[c] *= 2.0 * share;
         P.volume0[c] *= 2.0 * share;
         P.volume[c] *= 2.0 * share;

@@ -174,9 +174,9 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (!root.IsMap())
     fail(top_item, "a case file must be a map of keys (name:, grid:, ...), got " + describe(root));
   const Map top(*this, top_item,
-                {"name", "analysis", "dimension", "geometry", "grid", "materials", "bodies", "gravity",
-                 "boundaries", "point_loads", "tractions", "prescribed", "time", "output", "probes",
-                 "solver", "strength_reduction", "stages"});
+                {"name", "analysis", "dimension", "geometry", "grid", "materials", "bodies",
+                 "gravity", "boundaries", "point_loads", "tractions", "prescribed", "time",
+                 "output", "probes", "solver", "strength_reduction", "stages"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
   if (top.has("analysis") && !top.present("stages"))

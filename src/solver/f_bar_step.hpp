@@ -70,7 +70,8 @@ public:
       const double j = trial_j_[at(p)], j_bar = j_bar_of(p);
       if (!(j > 0 && j_bar > 0))
         return false;
-      trial_F[at(p)] = scaled(step_gradient(p), f_bar_scale<Components::kAxes>(j_bar / j)) * P.F[at(p)];
+      trial_F[at(p)] =
+          scaled(step_gradient(p), f_bar_scale<Components::kAxes>(j_bar / j)) * P.F[at(p)];
     }
     return true;
   }
@@ -114,7 +115,8 @@ public:
       for (Index k = cells_.begin(c); k < cells_.end(c); ++k) {
         const Index p = points[at(k)];
         const StepVector<Dim, Axisymmetric> H = P.volume0[at(p)] * dG_dJbar_[at(p)];
-        const M H_block = Eigen::Map<const Eigen::Matrix<double, Dim, Dim, Eigen::RowMajor>>(H.data());
+        const M H_block =
+            Eigen::Map<const Eigen::Matrix<double, Dim, Dim, Eigen::RowMajor>>(H.data());
         const Mat3 dF = step_gradient(p); // block diagonal: the block and the hoop stretch
         const M dFinv_T = M(dF.template topLeftCorner<Dim, Dim>()).inverse().transpose();
         const double wj = cells_.weight(p) * trial_j_[at(p)];
@@ -164,10 +166,10 @@ private:
   std::vector<double> trial_j_;    ///< per point: det dF at the trial increment
   std::vector<double> cell_j_bar_; ///< per cell: volume-weighted average of j
   std::vector<StepVector<Dim, Axisymmetric>> dG_dJbar_; ///< per point: H = dG/dJ_bar
-  std::vector<Index> node_slot_;   ///< per grid node: its place in cell_nodes_, -1 outside
-  std::vector<Index> cell_nodes_;  ///< the nodes of the cell being coupled
-  Eigen::VectorXd u_, v_;          ///< the cell's rank-one factors, Dim entries per node
-  Eigen::MatrixXd block_;          ///< u v^T
+  std::vector<Index> node_slot_;  ///< per grid node: its place in cell_nodes_, -1 outside
+  std::vector<Index> cell_nodes_; ///< the nodes of the cell being coupled
+  Eigen::VectorXd u_, v_;         ///< the cell's rank-one factors, Dim entries per node
+  Eigen::MatrixXd block_;         ///< u v^T
 };
 
 } // namespace talus

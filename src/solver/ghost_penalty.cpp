@@ -153,7 +153,8 @@ template <int Dim> void GhostPenalty<Dim>::weight_by_radius(const Grid<Dim>& gri
   for (Face& face : faces_) {
     double r = 0;
     for (int t = 0; t < kTangentialNodes; ++t)
-      r += grid.node_position(grid.node_ijk(face.nodes[static_cast<std::size_t>(kTangentialNodes + t)]))[0];
+      r += grid.node_position(
+          grid.node_ijk(face.nodes[static_cast<std::size_t>(kTangentialNodes + t)]))[0];
     face.stiffness *= r / kTangentialNodes;
   }
 }

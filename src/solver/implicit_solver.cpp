@@ -311,8 +311,8 @@ private:
   template <class F> void for_each_internal_force(Index p, F&& f) const {
     const auto s = at(p);
     const Mat3 dF_inv = step_gradient(s).inverse();
-    const Mat3 G = scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff *
-                   dF_inv.transpose();
+    const Mat3 G =
+        scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
     const M G2 = G.topLeftCorner<Dim, Dim>();
     [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
     map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {

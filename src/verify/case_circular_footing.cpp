@@ -60,18 +60,17 @@ VerificationCase circular_footing() {
     std::vector<Check> checks;
     // The rough footing's curve rises longer: its run goes to 2 % of the diameter.
     const FootingRun smooth = run_footing(ctx, "smooth", {}, 0.03);
-    const FootingRun rough =
-        run_footing(ctx, "rough",
-                    {"prescribed.footing.displacement=[0, -0.04]", "time.dt=0.04"}, 0.04);
+    const FootingRun rough = run_footing(
+        ctx, "rough", {"prescribed.footing.displacement=[0, -0.04]", "time.dt=0.04"}, 0.04);
     for (const auto& [run, name, limit, source] :
          {std::tuple{&smooth, "smooth", kSmooth, "Shield (1955): 5.69 c"},
           std::tuple{&rough, "rough", kRough, "Eason & Shield (1960): 6.05 c"}}) {
       const FootingCurve& c = run->curve;
       const std::size_t peak = c.peak();
-      checks.push_back(relative_check(
-          fmt::format("peak footing pressure, {}, a/h = 8", name), c.pressure[peak], limit, 0.03,
-          fmt::format("{}; at settlement {:.2f} % of 2a", source,
-                      100 * c.settlement[peak] / (2 * kRadius))));
+      checks.push_back(relative_check(fmt::format("peak footing pressure, {}, a/h = 8", name),
+                                      c.pressure[peak], limit, 0.03,
+                                      fmt::format("{}; at settlement {:.2f} % of 2a", source,
+                                                  100 * c.settlement[peak] / (2 * kRadius))));
       if (!run->iterations.empty())
         checks.push_back(at_most_check(
             fmt::format("Newton iterations per step to the peak, {}, median", name),
@@ -79,8 +78,8 @@ VerificationCase circular_footing() {
       write_curve_csv(ctx.out_dir / fmt::format("load_settlement_{}.csv", name), c, 2 * kRadius,
                       limit);
     }
-    const double ratio = rough.curve.pressure[rough.curve.peak()] /
-                         smooth.curve.pressure[smooth.curve.peak()];
+    const double ratio =
+        rough.curve.pressure[rough.curve.peak()] / smooth.curve.pressure[smooth.curve.peak()];
     checks.push_back(relative_check("rough / smooth peak pressure", ratio, kRough / kSmooth, 0.01,
                                     "6.05 / 5.69 = 1.063"));
     run_python_script("plot_footing.py",

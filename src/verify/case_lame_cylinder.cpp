@@ -85,14 +85,14 @@ VerificationCase lame_cylinder() {
                                    "raw point stress; 2x the measured 1.25 %"));
     checks.push_back(at_most_check("L2 error u_r, 16 cells", fine.displacement, 4e-4,
                                    "2.5x the measured 1.6e-4"));
-    checks.push_back(absolute_check("mean axial stress / (2 nu A) - 1, 16 cells",
-                                    fine.axial_stress, 0.0, 1e-5, "plane strain; measured -3.5e-6"));
+    checks.push_back(absolute_check("mean axial stress / (2 nu A) - 1, 16 cells", fine.axial_stress,
+                                    0.0, 1e-5, "plane strain; measured -3.5e-6"));
     for (std::size_t k = 1; k < errors.size(); ++k) {
       const std::string step = fmt::format("{}->{}", cells[k - 1], cells[k]);
-      checks.push_back(within_check(
-          "observed order sigma_rr, " + step,
-          std::log2(errors[k - 1].radial_stress / errors[k].radial_stress), 0.8, 1.2,
-          "raw GIMP stress: first order"));
+      checks.push_back(
+          within_check("observed order sigma_rr, " + step,
+                       std::log2(errors[k - 1].radial_stress / errors[k].radial_stress), 0.8, 1.2,
+                       "raw GIMP stress: first order"));
       checks.push_back(within_check("observed order sigma_tt, " + step,
                                     std::log2(errors[k - 1].hoop_stress / errors[k].hoop_stress),
                                     0.8, 1.2, "raw GIMP stress: first order"));

@@ -24,6 +24,7 @@ VerificationCase grashof();
 VerificationCase strip_footing();
 VerificationCase axisymmetric_cylinder();
 VerificationCase lame_cylinder();
+VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
 // The stability tier (`talus verify --tier stability`).

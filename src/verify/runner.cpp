@@ -32,6 +32,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::strip_footing(),
                                                       verify_cases::axisymmetric_cylinder(),
                                                       verify_cases::lame_cylinder(),
+                                                      verify_cases::breathing_cylinder(),
                                                       verify_cases::circular_footing(),
                                                       verify_cases::slope_fos(),
                                                       verify_cases::single_element(),

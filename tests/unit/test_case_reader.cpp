@@ -375,7 +375,7 @@ TEST(CaseReaderErrors, UnknownKeyWithoutCloseMatchHasNoSuggestion) {
   const std::string text = kCase + "colour: red\n";
   expect_error(text, {"case.yaml", 60, 1, "colour",
                       "unknown key 'colour' (allowed keys here: "
-                      "name, analysis, dimension, grid"});
+                      "name, analysis, dimension, geometry, grid"});
   try {
     read_case_text(text, "case.yaml");
   } catch (const InputError& e) {

@@ -27,7 +27,8 @@ using namespace talus;
 std::string block_2d(const std::string& geometry, const std::string& solver) {
   return R"(name: tangent
 analysis: implicit_quasistatic
-)" + geometry + R"(
+)" + geometry +
+         R"(
 grid: {origin: [0, 0], extent: [2, 1.5], cell_size: 0.25}
 materials:
   - {name: m, model: hencky, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}
@@ -38,7 +39,8 @@ boundaries: {y_min: fixed}
 tractions:
   - {body: b, side: right, traction: [-2.0e4, 1.0e4]}
 time: {end_time: 1, dt: 1}
-solver: )" + solver + "\n";
+solver: )" +
+         solver + "\n";
 }
 
 std::string block_3d(const std::string& solver) {
@@ -55,7 +57,8 @@ boundaries: {y_min: fixed}
 tractions:
   - {body: b, side: right, traction: [-2.0e4, 1.0e4, 5.0e3]}
 time: {end_time: 1, dt: 1}
-solver: )" + solver + "\n";
+solver: )" +
+         solver + "\n";
 }
 
 /// max |K_fd - K| / max |K| over every column, K at a random increment of up to 2 % of a cell
@@ -71,7 +74,8 @@ template <int Dim> double tangent_mismatch(const std::string& text) {
   const DofMap map = solver->dof_map(whole, solver->node_owners(shares));
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> d(-5e-3, 5e-3);
-  const Eigen::VectorXd du = Eigen::VectorXd::NullaryExpr(map.overlap_count(), [&] { return d(rng); });
+  const Eigen::VectorXd du =
+      Eigen::VectorXd::NullaryExpr(map.overlap_count(), [&] { return d(rng); });
   Eigen::VectorXd r;
   SparseMatrix K;
   EXPECT_TRUE(solver->assemble_share(whole, map, du, &r, &K));

@@ -318,7 +318,7 @@ struct CaseSpec {
   std::string source_text;            ///< verbatim case file text (embedded in run.h5)
   std::vector<std::string> overrides; ///< the --set strings applied, in order
   AnalysisType analysis = AnalysisType::Explicit;
-  int dimension = 2; ///< 2 (plane strain or axisymmetric) or 3
+  int dimension = 2;                         ///< 2 (plane strain or axisymmetric) or 3
   Geometry geometry = Geometry::PlaneStrain; ///< 2D only (default plane_strain)
   GridSpec grid;
   std::vector<MaterialSpec> materials;
