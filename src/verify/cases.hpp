@@ -19,6 +19,7 @@ VerificationCase cantilever();
 VerificationCase cantilever_3d();
 VerificationCase cantilever_slab_3d();
 VerificationCase self_weight_column();
+VerificationCase self_weight_column_3d();
 VerificationCase single_element();
 VerificationCase grashof();
 VerificationCase strip_footing();
