@@ -27,6 +27,7 @@
 //    scale-dependent measure does not apply); at alpha = 2 at most 6 Newton iterations per load
 //    step (measured 4; an inconsistent tangent needs tens).
 #include "cases.hpp"
+#include "newton_log.hpp"
 #include "references.hpp"
 
 #include <cmath>
@@ -42,30 +43,6 @@ using references::kBeamDepth;
 using references::kBeamInertia;
 using references::kBeamLength;
 using references::kBeamYoung;
-
-// The smallest log-ratio over the load steps in newton.log, counting only iterates above the
-// round-off floor and below 1e-2 (where the quadratic regime has started).
-double worst_newton_order(const std::filesystem::path& log) {
-  std::ifstream in(log);
-  std::string line;
-  double worst = 1e300;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#')
-      continue;
-    // After '|': the residual history, preceded by an abandoned attempt in [...] if any.
-    auto start = line.find('|');
-    if (const auto bracket = line.find(']', start); bracket != std::string::npos)
-      start = bracket;
-    std::istringstream values(line.substr(start + 1));
-    std::vector<double> r;
-    for (double v; values >> v;)
-      r.push_back(v);
-    for (std::size_t k = 0; k + 1 < r.size(); ++k)
-      if (r[k] < 1e-2 && r[k + 1] > 1e-9)
-        worst = std::min(worst, std::log(r[k + 1]) / std::log(r[k]));
-  }
-  return worst;
-}
 
 } // namespace
 

@@ -18,6 +18,7 @@
 // limit of (2 + pi) c, 10 % below the smooth value: the smooth check fails (tried).
 #include "cases.hpp"
 #include "footing_curve.hpp"
+#include "newton_log.hpp"
 #include "talus/post/python_script.hpp"
 
 #include <algorithm>

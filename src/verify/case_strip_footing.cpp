@@ -20,6 +20,7 @@
 // The curve is written as load_settlement.csv and drawn by scripts/plot_footing.py.
 #include "cases.hpp"
 #include "footing_curve.hpp"
+#include "newton_log.hpp"
 #include "talus/post/python_script.hpp"
 
 #include <algorithm>

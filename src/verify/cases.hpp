@@ -21,6 +21,7 @@ VerificationCase cantilever_slab_3d();
 VerificationCase self_weight_column();
 VerificationCase self_weight_column_3d();
 VerificationCase single_element();
+VerificationCase single_element_3d();
 VerificationCase grashof();
 VerificationCase strip_footing();
 VerificationCase axisymmetric_cylinder();

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <fmt/format.h>
 #include <fstream>
-#include <sstream>
 
 namespace talus::verify_cases {
 
@@ -26,24 +25,6 @@ FootingCurve load_settlement(const std::filesystem::path& dir, double end_time, 
     c.step.push_back(step[k]);
   }
   return c;
-}
-
-std::vector<int> newton_iterations(const std::filesystem::path& dir, double last_step) {
-  std::ifstream log(dir / "newton.log");
-  std::vector<int> its;
-  std::string line;
-  while (std::getline(log, line)) {
-    if (line.empty() || line[0] == '#')
-      continue;
-    std::istringstream in(line);
-    double step = 0, t_end = 0, dt = 0;
-    std::string converged;
-    int iterations = 0;
-    in >> step >> t_end >> dt >> converged >> iterations;
-    if (converged == "yes" && step <= last_step)
-      its.push_back(iterations);
-  }
-  return its;
 }
 
 void write_curve_csv(const std::filesystem::path& file, const FootingCurve& c, double width,

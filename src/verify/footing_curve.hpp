@@ -1,7 +1,7 @@
 #pragma once
 // The load-settlement curve of a footing verification (strip, circular): the footing pressure
-// from the prescribed region's reaction at every row of timeseries.csv, its peak, the Newton
-// iterations of the steps up to it (newton.log), and the CSV that scripts/plot_footing.py draws.
+// from the prescribed region's reaction at every row of timeseries.csv, its peak, and the CSV
+// that scripts/plot_footing.py draws (Newton iterations: newton_log.hpp).
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -18,9 +18,6 @@ struct FootingCurve {
 /// `end_time`; the pressure is pressure_per_force times -reaction_footing_y.
 FootingCurve load_settlement(const std::filesystem::path& dir, double end_time, double settlement,
                              double pressure_per_force);
-
-/// Newton iterations of the converged load steps up to `last_step` (newton.log).
-std::vector<int> newton_iterations(const std::filesystem::path& dir, double last_step);
 
 /// Columns settlement_m, settlement_over_B, pressure_Pa, pressure_over_reference (B the
 /// footing's width or diameter).

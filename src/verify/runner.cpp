@@ -37,6 +37,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::circular_footing(),
                                                       verify_cases::slope_fos(),
                                                       verify_cases::single_element(),
+                                                      verify_cases::single_element_3d(),
                                                       verify_cases::stability_explicit_cfl(),
                                                       verify_cases::stability_implicit_dt(),
                                                       verify_cases::stability_cell_crossing(),
