@@ -15,6 +15,7 @@ VerificationCase rigid_translation();
 VerificationCase rigid_translation_3d();
 VerificationCase colliding_spheres();
 VerificationCase rigid_rotation();
+VerificationCase rigid_rotation_3d();
 VerificationCase cantilever();
 VerificationCase cantilever_3d();
 VerificationCase cantilever_slab_3d();

@@ -24,6 +24,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::rigid_translation_3d(),
                                                       verify_cases::colliding_spheres(),
                                                       verify_cases::rigid_rotation(),
+                                                      verify_cases::rigid_rotation_3d(),
                                                       verify_cases::cantilever(),
                                                       verify_cases::cantilever_3d(),
                                                       verify_cases::cantilever_slab_3d(),
