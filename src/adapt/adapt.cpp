@@ -6,8 +6,10 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -19,108 +21,129 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Cell = std::pair<Index, Index>; // (i, j) of a grid cell
+template <int Dim> using Cell = std::array<Index, Dim>; // (i, j[, k]) of a grid cell
 
 /// Per body, the cells of the initial lattice (x0) its points start in.
-struct CellMarks {
-  std::vector<std::set<Cell>> body_cells, marked;
-};
+template <int Dim> struct CellMarks { std::vector<std::set<Cell<Dim>>> body_cells, marked; };
 
-Cell cell_of(const Grid<2>& grid, const Vec2& x) {
-  const Vec2 r = (x - grid.origin()) / grid.cell_size();
-  return {static_cast<Index>(std::floor(r.x())), static_cast<Index>(std::floor(r.y()))};
+template <int Dim> Cell<Dim> cell_of(const Grid<Dim>& grid, const Vec<Dim>& x) {
+  const Vec<Dim> r = (x - grid.origin()) / grid.cell_size();
+  Cell<Dim> c{};
+  for (int d = 0; d < Dim; ++d)
+    c[static_cast<std::size_t>(d)] = static_cast<Index>(std::floor(r[d]));
+  return c;
 }
 
-double voxel_aspect_ratio(const Mat2& F, const Vec2& half_size0) {
-  const Mat2 edges = F * half_size0.asDiagonal();
-  const Vec2 s = Eigen::JacobiSVD<Mat2>(edges).singularValues();
-  return s[0] / s[1];
+/// Long over short singular value of the deformed voxel's edges F diag(h0).
+template <int Dim> double voxel_aspect_ratio(const Mat<Dim>& F, const Vec<Dim>& half_size0) {
+  const Mat<Dim> edges = F * half_size0.asDiagonal();
+  const Vec<Dim> s = Eigen::JacobiSVD<Mat<Dim>>(edges).singularValues();
+  return s[0] / s[Dim - 1];
 }
 
-CellMarks mark_cells(const Scene<2>& scene, const AdaptOptions& options) {
+template <int Dim> CellMarks<Dim> mark_cells(const Scene<Dim>& scene, const AdaptOptions& options) {
   const auto& P = scene.particles;
   std::vector<double> kappa(static_cast<std::size_t>(P.size()), 0.0);
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
     scene.materials[m]->plastic_strain(scene.particles_of_material[m], kappa);
-  CellMarks marks;
+  CellMarks<Dim> marks;
   marks.body_cells.resize(scene.spec.bodies.size());
   marks.marked.resize(scene.spec.bodies.size());
   for (Index p = 0; p < P.size(); ++p) {
     const auto s = static_cast<std::size_t>(p);
     const auto b = static_cast<std::size_t>(P.body[s]);
-    const Cell c = cell_of(scene.grid, P.x0[s]);
+    const Cell<Dim> c = cell_of<Dim>(scene.grid, P.x0[s]);
     marks.body_cells[b].insert(c);
     if (kappa[s] > options.plastic_strain ||
-        voxel_aspect_ratio(P.grid_F(s), P.half_size0[s]) > options.aspect_ratio)
+        voxel_aspect_ratio<Dim>(P.grid_F(s), P.half_size0[s]) > options.aspect_ratio)
       marks.marked[b].insert(c);
   }
-  // The buffer: every body cell within buffer_cells (in both directions) of a marked one.
+  // The buffer: every body cell within buffer_cells (along every axis) of a marked one.
   const Index r = options.buffer_cells;
+  Index offsets = 1;
+  for (int d = 0; d < Dim; ++d)
+    offsets *= 2 * r + 1;
   for (std::size_t b = 0; b < marks.marked.size(); ++b) {
-    std::set<Cell> grown;
-    for (const Cell& c : marks.marked[b])
-      for (Index dj = -r; dj <= r; ++dj)
-        for (Index di = -r; di <= r; ++di) {
-          const Cell n{c.first + di, c.second + dj};
-          if (marks.body_cells[b].count(n))
-            grown.insert(n);
-        }
+    std::set<Cell<Dim>> grown;
+    for (const Cell<Dim>& c : marks.marked[b])
+      for (Index k = 0; k < offsets; ++k) {
+        Cell<Dim> n = c;
+        for (Index d = 0, rest = k; d < Dim; ++d, rest /= 2 * r + 1)
+          n[static_cast<std::size_t>(d)] += rest % (2 * r + 1) - r;
+        if (marks.body_cells[b].count(n))
+          grown.insert(n);
+      }
     marks.marked[b] = std::move(grown);
   }
   return marks;
 }
 
-/// The marked cells as boxes, one per run of consecutive cells in a row.
-std::vector<std::array<double, 4>> boxes_of(const Grid<2>& grid, const std::set<Cell>& cells) {
-  std::vector<std::pair<Index, Index>> by_row; // (j, i), sorted by row then column
-  for (const Cell& c : cells)
-    by_row.emplace_back(c.second, c.first);
-  std::sort(by_row.begin(), by_row.end());
-  std::vector<std::array<double, 4>> boxes;
+/// The marked cells as boxes (lower corner, then upper, 2 Dim numbers), one per run of cells
+/// consecutive along x with the same other indices.
+template <int Dim>
+std::vector<std::vector<double>> boxes_of(const Grid<Dim>& grid, const std::set<Cell<Dim>>& cells) {
+  // Reversed indices sort by the last axis first and x last, so runs along x are adjacent.
+  std::vector<Cell<Dim>> rows;
+  for (const Cell<Dim>& c : cells) {
+    Cell<Dim> reversed{};
+    std::reverse_copy(c.begin(), c.end(), reversed.begin());
+    rows.push_back(reversed);
+  }
+  std::sort(rows.begin(), rows.end());
+  std::vector<std::vector<double>> boxes;
   const double h = grid.cell_size();
-  const Vec2 o = grid.origin();
-  for (std::size_t k = 0; k < by_row.size();) {
-    const Index j = by_row[k].first, i0 = by_row[k].second;
-    Index i1 = i0;
+  const Vec<Dim> o = grid.origin();
+  constexpr std::size_t x = Dim - 1; // x is the last of the reversed indices
+  for (std::size_t k = 0; k < rows.size();) {
+    Cell<Dim> first = rows[k], last = rows[k];
     std::size_t next = k + 1;
-    while (next < by_row.size() && by_row[next].first == j && by_row[next].second == i1 + 1) {
-      ++i1;
+    while (next < rows.size() &&
+           std::equal(rows[next].begin(), rows[next].begin() + x, first.begin()) &&
+           rows[next][x] == last[x] + 1) {
+      last = rows[next];
       ++next;
     }
-    boxes.push_back({o.x() + h * static_cast<double>(i0), o.y() + h * static_cast<double>(j),
-                     o.x() + h * static_cast<double>(i1 + 1),
-                     o.y() + h * static_cast<double>(j + 1)});
+    std::vector<double> box(2 * Dim);
+    for (int d = 0; d < Dim; ++d) {
+      const auto index = static_cast<std::size_t>(Dim - 1 - d); // back to x, y[, z] order
+      box[static_cast<std::size_t>(d)] = o[d] + h * static_cast<double>(first[index]);
+      box[static_cast<std::size_t>(Dim + d)] = o[d] + h * static_cast<double>(last[index] + 1);
+    }
+    boxes.push_back(std::move(box));
     k = next;
   }
   return boxes;
 }
 
 std::string refine_override(const BodySpec& body, int particles_per_cell,
-                            const std::vector<std::array<double, 4>>& boxes) {
+                            const std::vector<std::vector<double>>& boxes) {
   std::string list;
   for (const auto& b : boxes)
-    list += fmt::format("{}[{}, {}, {}, {}]", list.empty() ? "" : ", ", b[0], b[1], b[2], b[3]);
+    list += fmt::format("{}[{}]", list.empty() ? "" : ", ", fmt::join(b, ", "));
   return fmt::format("bodies.{}.refine={{particles_per_cell: {}, boxes: [{}]}}", body.name,
                      particles_per_cell, list);
 }
 
 /// The material extent at the end: the largest x and y of any deformed voxel corner.
-std::pair<double, double> extent_of(const Particles<2>& P) {
+template <int Dim> std::pair<double, double> extent_of(const Particles<Dim>& P) {
   double front = -std::numeric_limits<double>::infinity(), top = front;
   for (Index p = 0; p < P.size(); ++p) {
     const auto s = static_cast<std::size_t>(p);
-    for (const double sx : {-1.0, 1.0})
-      for (const double sy : {-1.0, 1.0}) {
-        const Vec2 corner = P.x[s] + P.grid_F(s) * Vec2(sx, sy).cwiseProduct(P.half_size0[s]);
-        front = std::max(front, corner.x());
-        top = std::max(top, corner.y());
-      }
+    for (int corner = 0; corner < (1 << Dim); ++corner) {
+      Vec<Dim> sign;
+      for (int d = 0; d < Dim; ++d)
+        sign[d] = (corner >> d) & 1 ? 1.0 : -1.0;
+      const Vec<Dim> x = P.x[s] + P.grid_F(s) * sign.cwiseProduct(P.half_size0[s]);
+      front = std::max(front, x.x());
+      top = std::max(top, x.y());
+    }
   }
   return {front, top};
 }
 
+template <int Dim>
 AdaptRun run_one(const std::string& label, const CaseSpec& spec, const AdaptOptions& options,
-                 const fs::path& root, CellMarks* marks) {
+                 const fs::path& root, CellMarks<Dim>* marks) {
   AdaptRun run;
   run.label = label;
   RunOptions ro;
@@ -128,11 +151,15 @@ AdaptRun run_one(const std::string& label, const CaseSpec& spec, const AdaptOpti
   ro.force = true; // the whole folder was checked (or --force given) before the first run
   ro.threads = options.threads;
   ro.progress = options.progress;
-  ro.final_state = [&](const Scene<2>& scene) {
-    std::tie(run.front, run.top) = extent_of(scene.particles);
+  const auto inspect = [&](const Scene<Dim>& scene) {
+    std::tie(run.front, run.top) = extent_of<Dim>(scene.particles);
     if (marks)
-      *marks = mark_cells(scene, options);
+      *marks = mark_cells<Dim>(scene, options);
   };
+  if constexpr (Dim == 2)
+    ro.final_state = inspect;
+  else
+    ro.final_state_3d = inspect;
   run.result = run_case(spec, ro);
   run.particles_initial = static_cast<Index>(run.result.extra.count("particles_initial")
                                                  ? run.result.extra.at("particles_initial")
@@ -157,6 +184,40 @@ void check_options(const AdaptOptions& o) {
     bad("--buffer", fmt::format("must be an integer from 0 to 10 (got {})", o.buffer_cells));
 }
 
+/// The pre-run, the marks and the adapted (and fine) runs of a case of dimension Dim.
+template <int Dim>
+AdaptReport adapt_in(const std::string& case_file, const std::vector<std::string>& overrides,
+                     const AdaptOptions& options, const CaseSpec& coarse, const fs::path& root) {
+  AdaptReport report;
+  CellMarks<Dim> marks;
+  report.runs.push_back(run_one<Dim>("coarse", coarse, options, root, &marks));
+
+  report.overrides = overrides;
+  for (std::size_t b = 0; b < coarse.bodies.size(); ++b) {
+    report.body_cells += static_cast<Index>(marks.body_cells[b].size());
+    report.marked_cells += static_cast<Index>(marks.marked[b].size());
+    if (marks.marked[b].empty())
+      continue;
+    const BodySpec& body = coarse.bodies[b];
+    report.overrides.push_back(
+        refine_override(body, body.particles_per_cell * options.factor,
+                        boxes_of<Dim>(build_scene<Dim>(coarse).grid, marks.marked[b])));
+  }
+  const CaseSpec adapted = read_case_file(case_file, report.overrides);
+  report.runs.push_back(run_one<Dim>("adapted", adapted, options, root, nullptr));
+
+  if (options.benchmark) {
+    std::vector<std::string> fine_overrides = overrides;
+    for (const BodySpec& b : coarse.bodies)
+      fine_overrides.push_back(fmt::format("bodies.{}.particles_per_cell={}", b.name,
+                                           b.particles_per_cell * options.factor));
+    report.runs.push_back(
+        run_one<Dim>("fine", read_case_file(case_file, fine_overrides), options, root, nullptr));
+  }
+
+  return report;
+}
+
 } // namespace
 
 AdaptReport adapt_case(const std::string& case_file, const std::vector<std::string>& overrides,
@@ -174,33 +235,9 @@ AdaptReport adapt_case(const std::string& case_file, const std::vector<std::stri
   for (const char* label : {"coarse", "adapted", "fine"})
     prepare_output_directory(root / label, options.force);
 
-  AdaptReport report;
-  CellMarks marks;
-  report.runs.push_back(run_one("coarse", coarse, options, root, &marks));
-
-  report.overrides = overrides;
-  for (std::size_t b = 0; b < coarse.bodies.size(); ++b) {
-    report.body_cells += static_cast<Index>(marks.body_cells[b].size());
-    report.marked_cells += static_cast<Index>(marks.marked[b].size());
-    if (marks.marked[b].empty())
-      continue;
-    const BodySpec& body = coarse.bodies[b];
-    report.overrides.push_back(
-        refine_override(body, body.particles_per_cell * options.factor,
-                        boxes_of(build_scene<2>(coarse).grid, marks.marked[b])));
-  }
-  const CaseSpec adapted = read_case_file(case_file, report.overrides);
-  report.runs.push_back(run_one("adapted", adapted, options, root, nullptr));
-
-  if (options.benchmark) {
-    std::vector<std::string> fine_overrides = overrides;
-    for (const BodySpec& b : coarse.bodies)
-      fine_overrides.push_back(fmt::format("bodies.{}.particles_per_cell={}", b.name,
-                                           b.particles_per_cell * options.factor));
-    report.runs.push_back(
-        run_one("fine", read_case_file(case_file, fine_overrides), options, root, nullptr));
-  }
-
+  AdaptReport report = coarse.dimension == 3
+                           ? adapt_in<3>(case_file, overrides, options, coarse, root)
+                           : adapt_in<2>(case_file, overrides, options, coarse, root);
   std::ofstream md(root / "adapt.md");
   md << "# talus adapt: " << coarse.name << "\n\n"
      << fmt::format("Marked {} of {} body cells (plastic strain > {:g} or voxel aspect ratio > "

@@ -483,9 +483,12 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     result.extra["seconds_post_processing"] = recorder.post_seconds;
   // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).
   result.particles = scene.particles.size();
-  if constexpr (Dim == 2)
+  if constexpr (Dim == 2) {
     if (options.final_state)
       options.final_state(scene);
+  } else if (options.final_state_3d) {
+    options.final_state_3d(scene);
+  }
   std::signal(SIGINT, previous_sigint);
   std::signal(SIGTERM, previous_sigterm);
 

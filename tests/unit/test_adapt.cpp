@@ -1,7 +1,7 @@
 // Pre-run adaptive discretisation: bodies[].refine (finer lattice in the cells of the boxes;
 // the refined body keeps its area exactly: every sub-cell area is a power-of-two-free
 // h^2 / n^2, so the sum is compared to round-off of a few hundred additions, 1e-12 relative),
-// its input errors, and `talus adapt` end to end on a small collapsing column.
+// its input errors, and `talus adapt` end to end on a small collapsing column, in 2D and 3D.
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
@@ -118,6 +118,45 @@ TEST_F(AdaptRun, MarksTheYieldedCellsAndRunsAllThree) {
   const Scene<2> again =
       build_scene<2>(read_case_file((root_ / "column.yaml").string(), report.overrides));
   EXPECT_EQ(again.particles.size(), adapted);
+}
+
+// The same workflow in 3D: the column as a slab two cells deep between z rollers; refinement
+// boxes are [x_min, y_min, z_min, x_max, y_max, z_max] and a marked cell gains 2^3 - 1 points.
+TEST_F(AdaptRun, MarksAndRefinesA3DColumn) {
+  const std::string column_3d = R"(name: small_column_3d
+analysis: explicit
+dimension: 3
+grid: {origin: [0, 0, 0], extent: [1.2, 1, 0.2], cell_size: 0.1}
+materials:
+  - {name: soil, model: mohr_coulomb, density: 1000, youngs_modulus: 2.0e6, poisson_ratio: 0.3,
+     cohesion: 500, friction_angle: 30, dilation_angle: 0}
+bodies:
+  - {name: column, material: soil, shape: box, min: [0, 0, 0], max: [0.4, 0.8, 0.2],
+     particles_per_cell: 1, initial_stress: {type: geostatic}}
+gravity: [0, -9.81, 0]
+boundaries: {x_min: roller, y_min: fixed, z_min: roller, z_max: roller}
+time: {end_time: 0.2, cfl: 0.5}
+)";
+  std::ofstream(root_ / "column_3d.yaml") << column_3d;
+  AdaptOptions options;
+  options.out_dir = root_ / "adapt_3d";
+  options.progress = false;
+  options.benchmark = true;
+  options.plastic_strain = 1e-3;
+  options.buffer_cells = 0;
+  const AdaptReport report = adapt_case((root_ / "column_3d.yaml").string(), {}, options);
+  ASSERT_EQ(report.runs.size(), 3u);
+  EXPECT_EQ(report.body_cells, 64);
+  EXPECT_GT(report.marked_cells, 0);
+  EXPECT_LT(report.marked_cells, report.body_cells);
+  // The slab between rollers is the 2D column twice: both z layers mark alike.
+  EXPECT_EQ(report.marked_cells % 2, 0);
+  EXPECT_EQ(report.runs[0].particles_initial, 64);
+  EXPECT_EQ(report.runs[2].particles_initial, 8 * 64);
+  EXPECT_EQ(report.runs[1].particles_initial, 64 + 7 * report.marked_cells);
+  const Scene<3> again =
+      build_scene<3>(read_case_file((root_ / "column_3d.yaml").string(), report.overrides));
+  EXPECT_EQ(again.particles.size(), report.runs[1].particles_initial);
 }
 
 TEST_F(AdaptRun, RefusesBadOptionsBeforeRunning) {

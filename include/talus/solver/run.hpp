@@ -28,9 +28,10 @@ struct RunOptions {
   bool force = false;            ///< replace the result files of an earlier run in out_dir
   int threads = 0;               ///< OpenMP threads; 0 keeps the OpenMP default
   bool progress = true;          ///< progress line (terminal) or periodic log lines
-  /// Called with the state a 2D run ended in (any status), before summary.json is written:
-  /// lets a caller (talus adapt, 2D only) inspect the points without reading the results back.
+  /// Called with the state a 2D (3D) run ended in (any status), before summary.json is
+  /// written: lets a caller (talus adapt) inspect the points without reading the results back.
   std::function<void(const Scene<2>&)> final_state{};
+  std::function<void(const Scene<3>&)> final_state_3d{};
   /// Consulted after each completed step (a converged one in the implicit analyses) with the
   /// probes' points and the run's time: a message ends the run there, with status "stopped"
   /// and the message as RunResult::message, after that step's time-series row and frame are
