@@ -30,6 +30,7 @@ VerificationCase lame_cylinder();
 VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
+VerificationCase slope_fos_slab_3d();
 // The stability tier (`talus verify --tier stability`).
 VerificationCase stability_explicit_cfl();
 VerificationCase stability_implicit_dt();
