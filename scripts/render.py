@@ -82,9 +82,11 @@ def picture(group, args):
     if group["position"].shape[1] == 3:
         return picture_3d(group, values, args)
     shapes = frame_shapes(group, args.mode)
+    # An axisymmetric run is drawn in its meridian plane: x is the radius, y the axis.
+    labels = ("r [m]", "z [m]") if args.axisymmetric else ("x [m]", "y [m]")
     if args.mode == "voxels":
-        return Picture(values, polygons=shapes)
-    return Picture(values, points=shapes)
+        return Picture(values, polygons=shapes, labels=labels)
+    return Picture(values, points=shapes, labels=labels)
 
 
 def drawn_values(group, args):
@@ -227,6 +229,8 @@ def main():
     ap.add_argument("--view", choices=sorted(render3d.VIEWS), default="iso")
     ap.add_argument("--sequence", action="store_true")
     ap.add_argument("--dpi", type=int, default=150)
+    ap.add_argument("--axisymmetric", action="store_true",
+                    help="an axisymmetric run: the axes are r and z")
     ap.add_argument("-o", "--output", required=True)
     args = ap.parse_args()
     if bool(args.dataset) == bool(args.pattern):

@@ -215,6 +215,7 @@ ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
     h5::write_string_attribute(g.get(), "case_file", m.case_file, s);
     h5::write_string_attribute(g.get(), "version", m.version, s);
     h5::write_int64_attribute(g.get(), "dimension", m.dimension, s);
+    h5::write_string_attribute(g.get(), "geometry", m.geometry, s);
     const auto dims = static_cast<std::size_t>(m.dimension);
     h5::write_double_attribute(g.get(), "grid_origin", m.grid_origin.data(), dims, false, s);
     h5::write_double_attribute(g.get(), "grid_extent", m.grid_extent.data(), dims, false, s);

@@ -26,8 +26,20 @@ namespace {
   throw InputError({option, 0, 0, ""}, what);
 }
 
-/// Component names of a dataset by its column count, in column order.
-std::vector<std::string> components_of(Index columns) {
+/// Component names of a dataset by its column count, in column order; an axisymmetric run's
+/// by r, z and t (the hoop direction theta): x is r, y is z, the third axis is theta.
+std::vector<std::string> components_of(Index columns, bool axisymmetric) {
+  if (axisymmetric)
+    switch (columns) {
+    case 2:
+      return {"r", "z"};
+    case 6: // Tensor6: rr, rz, rt, zz, zt, tt
+      return {"rr", "rz", "rt", "zz", "zt", "tt"};
+    case 9:
+      return {"rr", "rz", "rt", "zr", "zz", "zt", "tr", "tz", "tt"};
+    default:
+      break;
+    }
   switch (columns) {
   case 2:
     return {"x", "y"};
@@ -133,6 +145,11 @@ int render(const RenderOptions& o) {
   if (!o.mode.empty() && o.mode != "voxels" && o.mode != "points")
     bad("--mode", fmt::format("unknown mode '{}' (allowed: voxels, points)", o.mode));
   const bool three_d = reader->metadata_string("dimension") == "3";
+  bool axisymmetric = false;
+  try { // run.h5 files written before the geometry attribute are plane strain or 3D
+    axisymmetric = reader->metadata_string("geometry") == "axisymmetric";
+  } catch (const std::runtime_error&) {
+  }
   if (!three_d && !o.slice.empty())
     bad("--slice", fmt::format("'{}' is a 2D result: it is drawn in its plane, a slice needs a "
                                "3D run",
@@ -179,7 +196,7 @@ int render(const RenderOptions& o) {
     }
     Index rows = 0;
     reader->read(frames.front(), o.field, &rows, &columns);
-    const auto names = components_of(columns);
+    const auto names = components_of(columns, axisymmetric);
     std::string column;
     std::string label = o.field;
     if (names.empty()) {
@@ -208,6 +225,8 @@ int render(const RenderOptions& o) {
   } else if (three_d) {
     args.insert(args.end(), {"--view", o.view.empty() ? "iso" : o.view});
   }
+  if (axisymmetric)
+    args.push_back("--axisymmetric");
   args.insert(args.end(), {"--mode", mode, "-o", o.output.string()});
   if (o.frame == "all")
     args.push_back("--sequence");

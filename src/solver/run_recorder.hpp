@@ -29,6 +29,9 @@ template <int Dim> RunMetadata metadata_of(const Scene<Dim>& scene) {
   m.overrides = spec.overrides;
   m.version = TALUS_VERSION;
   m.dimension = Dim;
+  m.geometry = Dim == 3 ? "3d"
+               : spec.geometry == Geometry::Axisymmetric ? "axisymmetric"
+                                                         : "plane_strain";
   m.grid_origin = spec.grid.origin;
   m.grid_extent = spec.grid.extent;
   m.cell_size = spec.grid.cell_size;

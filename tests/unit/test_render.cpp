@@ -147,6 +147,29 @@ TEST_F(Render, SliceAndViewNeedA3DRun) {
   }
 }
 
+// An axisymmetric run names its components by r, z and the hoop direction t: --component tt
+// draws the hoop stress, and the plane-strain names are refused with the axisymmetric ones.
+TEST_F(Render, AnAxisymmetricRunHasComponentsRZT) {
+  const fs::path cylinder =
+      fs::path(TALUS_TESTS_DIR).parent_path() / "verification/axisymmetric_cylinder.yaml";
+  ASSERT_EQ(talus("run '" + cylinder.string() + "' --out '" + (dir_ / "axi").string() +
+                  "' > /dev/null 2>&1")
+                .exit_code,
+            0);
+  const fs::path hoop = dir_ / "hoop.png", bad = dir_ / "bad_axi.png";
+  EXPECT_EQ(talus("render " + h5("axi") + " --field stress --component tt --mode points -o '" +
+                  hoop.string() + "'")
+                .exit_code,
+            0);
+  EXPECT_TRUE(is_png(hoop));
+  const Outcome o = talus("render " + h5("axi") + " --field stress --component xx -o '" +
+                          bad.string() + "'");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("allowed: rr, rz, rt, zz, zt, tt"), std::string::npos)
+      << o.stderr_text;
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 // A box of 12 x 8 x 6 points (spacing 0.05 m) sheared for 0.02 s: three frames.
 const char* const kBox3d = R"yaml(name: render_box_3d
 dimension: 3
