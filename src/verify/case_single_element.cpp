@@ -39,20 +39,6 @@ namespace {
 
 constexpr double kConfining = 1.0e5, kCohesion = 1.0e4, kPhiDegrees = 30.0;
 
-/// Final Cauchy stress of the first point (all four are equal), from a run with overrides.
-Mat3 final_stress(const VerificationContext& ctx, const std::string& run,
-                  const std::vector<std::string>& overrides) {
-  const auto dir = ctx.out_dir / run;
-  run_quiet(load_verification_case(ctx, overrides), dir, ctx.threads);
-  const ResultsReader results(dir / "run.h5");
-  Index rows = 0, cols = 0;
-  const auto s = results.read(results.frame_count() - 1, "stress", &rows, &cols);
-  // XDMF Tensor6 order: xx, xy, xz, yy, yz, zz
-  Mat3 sigma;
-  sigma << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
-  return sigma;
-}
-
 std::string mohr_coulomb(double dilation) {
   return fmt::format("materials[0]={{name: soil, model: mohr_coulomb, density: 2000, "
                      "youngs_modulus: 1.0e10, poisson_ratio: 0.3, cohesion: {}, "
@@ -90,7 +76,7 @@ VerificationCase single_element() {
     for (const double psi : {kPhiDegrees, 0.0}) {
       const std::string label = fmt::format("MC compression psi={:g}", psi);
       const Mat3 s =
-          final_stress(ctx, fmt::format("mc_compression_psi{:g}", psi), {mohr_coulomb(psi)});
+          final_point_stress(ctx, fmt::format("mc_compression_psi{:g}", psi), {mohr_coulomb(psi)});
       const bool associated = psi > 0;
       checks.push_back(relative_check(label + ": |sigma_v|", -s(1, 1),
                                       Kp * -s(0, 0) + two_c_root_Kp, associated ? 5e-5 : 5e-6,
@@ -101,23 +87,24 @@ VerificationCase single_element() {
     }
     {
       const Mat3 s =
-          final_stress(ctx, "mc_extension",
-                       {mohr_coulomb(kPhiDegrees), "prescribed[0].displacement=[~, 1.0e-4]"});
+          final_point_stress(ctx, "mc_extension",
+                             {mohr_coulomb(kPhiDegrees), "prescribed[0].displacement=[~, 1.0e-4]"});
       checks.push_back(relative_check("MC extension: |sigma_v|", -s(1, 1),
                                       (-s(0, 0) - two_c_root_Kp) / Kp, 1e-4,
                                       "p = Kp |sigma_v| + 2 c sqrt(Kp); measured 3.5e-5"));
       confinement_check("MC extension", s);
     }
     {
-      const Mat3 s = final_stress(ctx, "tresca",
-                                  {"materials[0]={name: soil, model: tresca, density: 2000, "
-                                   "youngs_modulus: 1.0e10, poisson_ratio: 0.3, cohesion: 1.0e4}"});
+      const Mat3 s =
+          final_point_stress(ctx, "tresca",
+                             {"materials[0]={name: soil, model: tresca, density: 2000, "
+                              "youngs_modulus: 1.0e10, poisson_ratio: 0.3, cohesion: 1.0e4}"});
       checks.push_back(relative_check("Tresca compression: sigma_h - sigma_v", s(0, 0) - s(1, 1),
                                       2.0 * kCohesion, 5e-6, "2 c; measured 1.0e-6"));
       confinement_check("Tresca compression", s);
     }
     {
-      const Mat3 s = final_stress(
+      const Mat3 s = final_point_stress(
           ctx, "drucker_prager",
           {fmt::format("materials[0]={{name: soil, model: drucker_prager, density: 2000, "
                        "youngs_modulus: 1.0e10, poisson_ratio: 0.3, cohesion: {}, "
@@ -130,7 +117,7 @@ VerificationCase single_element() {
     }
     {
       // Stress-free start, right and top faces pulled out equally.
-      const Mat3 s = final_stress(
+      const Mat3 s = final_point_stress(
           ctx, "apex",
           {mohr_coulomb(kPhiDegrees), "bodies[0].initial_stress=~", "tractions=~",
            "prescribed=[{name: corner, min: [0.9, 0.9], max: [1.1, 1.1], displacement: [1.0e-4, "
@@ -142,7 +129,7 @@ VerificationCase single_element() {
     }
     {
       // Stress-free start, right face pulled, top free.
-      const Mat3 s = final_stress(
+      const Mat3 s = final_point_stress(
           ctx, "tension",
           {mohr_coulomb(kPhiDegrees), "bodies[0].initial_stress=~", "tractions=~",
            "prescribed=[{name: right, min: [0.9, 0], max: [1.1, 1.1], displacement: [1.0e-4, "
@@ -158,7 +145,7 @@ VerificationCase single_element() {
     }
     {
       const double sigma_y = 1.0e5;
-      const Mat3 s = final_stress(
+      const Mat3 s = final_point_stress(
           ctx, "von_mises_shear",
           {"materials[0]={name: soil, model: von_mises, density: 2000, youngs_modulus: 1.0e10, "
            "poisson_ratio: 0.3, yield_stress: 1.0e5}",

@@ -39,19 +39,6 @@ namespace {
 
 constexpr double kConfining = 1.0e5, kCohesion = 1.0e4, kPhiDegrees = 30.0;
 
-/// Final Cauchy stress of the first point (all eight are equal to about 1e-4), from a run.
-Mat3 final_stress(const VerificationContext& ctx, const std::string& run,
-                  const std::vector<std::string>& overrides) {
-  const auto dir = ctx.out_dir / run;
-  run_quiet(load_verification_case(ctx, overrides), dir, ctx.threads);
-  const ResultsReader results(dir / "run.h5");
-  Index rows = 0, cols = 0;
-  const auto s = results.read(results.frame_count() - 1, "stress", &rows, &cols);
-  Mat3 sigma; // XDMF Tensor6 order: xx, xy, xz, yy, yz, zz
-  sigma << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
-  return sigma;
-}
-
 std::string material(const std::string& model, const std::string& strength) {
   return fmt::format("materials[0]={{name: soil, model: {}, density: 2000, youngs_modulus: "
                      "1.0e10, poisson_ratio: 0.3, {}}}",
@@ -86,7 +73,7 @@ VerificationCase single_element_3d() {
     for (const double psi : {kPhiDegrees, 0.0}) {
       const std::string label = fmt::format("MC triaxial compression psi={:g}", psi);
       const std::string run = fmt::format("mc_compression_psi{:g}", psi);
-      const Mat3 s = final_stress(ctx, run, {frictional("mohr_coulomb", psi)});
+      const Mat3 s = final_point_stress(ctx, run, {frictional("mohr_coulomb", psi)});
       checks.push_back(relative_check(
           label + ": |sigma_v|", -s(1, 1), Kp * -s(0, 0) + two_c_root_Kp, psi > 0 ? 5e-5 : 5e-6,
           psi > 0 ? "Kp p + 2 c sqrt(Kp), the compression edge; measured 1.5e-5"
@@ -98,15 +85,15 @@ VerificationCase single_element_3d() {
       // lie between 1e-2 and the round-off floor (with the 20 small steps above, the last
       // iterate already reaches round-off, which says nothing about the order).
       const std::string run = "mc_newton";
-      final_stress(ctx, run,
-                   {frictional("mohr_coulomb", kPhiDegrees), "time.dt=0.5",
-                    "prescribed[0].displacement=[~, -4.0e-4, ~]"});
+      final_point_stress(ctx, run,
+                         {frictional("mohr_coulomb", kPhiDegrees), "time.dt=0.5",
+                          "prescribed[0].displacement=[~, -4.0e-4, ~]"});
       checks.push_back(at_least_check("MC triaxial compression: Newton order (worst step)",
                                       worst_newton_order(ctx.out_dir / run / "newton.log"), 1.8,
                                       "edge return's algorithmic tangent; measured 2.11"));
     }
     {
-      const Mat3 s = final_stress(
+      const Mat3 s = final_point_stress(
           ctx, "mc_extension",
           {frictional("mohr_coulomb", kPhiDegrees), "prescribed[0].displacement=[~, 1.0e-4, ~]"});
       checks.push_back(relative_check(
@@ -115,14 +102,15 @@ VerificationCase single_element_3d() {
       confinement("MC triaxial extension", s);
     }
     {
-      const Mat3 s = final_stress(ctx, "tresca", {material("tresca", "cohesion: 1.0e4")});
+      const Mat3 s = final_point_stress(ctx, "tresca", {material("tresca", "cohesion: 1.0e4")});
       checks.push_back(relative_check("Tresca triaxial: sigma_h - sigma_v", s(0, 0) - s(1, 1),
                                       2.0 * kCohesion, 3e-6, "2 c; measured 8e-7"));
       confinement("Tresca triaxial", s);
     }
     {
       const double sigma_y = 1.0e5;
-      const Mat3 s = final_stress(ctx, "von_mises", {material("von_mises", "yield_stress: 1.0e5")});
+      const Mat3 s =
+          final_point_stress(ctx, "von_mises", {material("von_mises", "yield_stress: 1.0e5")});
       checks.push_back(relative_check("von Mises triaxial: sigma_h - sigma_v", s(0, 0) - s(1, 1),
                                       sigma_y, 1.5e-5, "q = sigma_y; measured 4e-6"));
     }
@@ -131,7 +119,7 @@ VerificationCase single_element_3d() {
       const double alpha = std::tan(phi) / root, k = 3.0 * kCohesion / root;
       const double inv3 = 1.0 / std::sqrt(3.0);
       const Mat3 s =
-          final_stress(ctx, "drucker_prager", {frictional("drucker_prager", kPhiDegrees)});
+          final_point_stress(ctx, "drucker_prager", {frictional("drucker_prager", kPhiDegrees)});
       const double p = -s(0, 0);
       checks.push_back(
           relative_check("DP (plane-strain match) triaxial compression: |sigma_v|", -s(1, 1),
@@ -156,9 +144,9 @@ VerificationCase single_element_3d() {
                              0.9 * at[2], at[0] + 0.1, at[1] + 0.1, at[2] + 0.1, u);
       }
       const Mat3 s =
-          final_stress(ctx, "apex",
-                       {frictional("mohr_coulomb", kPhiDegrees), "bodies[0].initial_stress=~",
-                        "tractions=~", "prescribed=[" + boxes + "]"});
+          final_point_stress(ctx, "apex",
+                             {frictional("mohr_coulomb", kPhiDegrees), "bodies[0].initial_stress=~",
+                              "tractions=~", "prescribed=[" + boxes + "]"});
       checks.push_back(relative_check("MC apex: mean stress", s.trace() / 3.0,
                                       kCohesion / std::tan(phi), 9e-4,
                                       "c cot(phi); measured 3.0e-4"));

@@ -46,4 +46,9 @@ VerificationCase stability_perturbed();
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);
 
+/// Runs the case's scene with `overrides` into ctx.out_dir / run and returns the Cauchy stress
+/// of its first point in the last frame (the single-element cases, whose points all agree).
+Mat3 final_point_stress(const VerificationContext& ctx, const std::string& run,
+                        const std::vector<std::string>& overrides);
+
 } // namespace talus::verify_cases
