@@ -1,5 +1,6 @@
 #include "talus/solver/implicit_solver.hpp"
 #include "f_bar_step.hpp"
+#include "implicit_step_setup.hpp"
 #include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
@@ -18,13 +19,6 @@
 namespace talus {
 
 namespace {
-
-// Nodes whose mass is below this fraction of the heaviest node's carry no material in any
-// meaningful sense (round-off of a support edge); their increments are held at zero. The
-// threshold is deliberately tiny: holding nodes with a real share of a point's support
-// stiffens the body (measured: a bent cantilever at 1 % lost 90 % of its deflection). Nodes
-// with a small share are kept and stabilised by the ghost penalty (ghost_penalty.hpp).
-constexpr double kImplicitTinyNodeMassFraction = 1e-10;
 
 // Newton's tolerance is never set below this multiple of the stress round-off force.
 constexpr double kRoundOffFloor = 100.0;
@@ -85,17 +79,17 @@ public:
   NewtonReport step(double lambda_end, double ramp_end, double dt) override {
     prepare(lambda_end, ramp_end, dt);
     NewtonOptions options;
-    options.residual_scale = force_scale_;
+    options.residual_scale = step_.force_scale;
     // The stress carries an absolute round-off of about eps * E (the strain comes from F - I),
     // so no nodal force is known better than ~eps * E * h. A tolerance below 100 times that
     // floor would ask for digits that do not exist (stiff material, light load).
     options.residual_tolerance = std::max(scene_.spec.solver.newton_tolerance,
-                                          kRoundOffFloor * round_off_force_ / force_scale_);
+                                          kRoundOffFloor * round_off_force_ / step_.force_scale);
     options.step_scale = scene_.grid.cell_size();
     options.max_iterations = scene_.spec.solver.max_newton_iterations;
-    Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dof_count_));
+    Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(step_.dof_count));
     NewtonReport report;
-    if (dof_count_ == 0) {
+    if (step_.dof_count == 0) {
       report.converged = true;
       report.residual_history.push_back(0.0);
     } else {
@@ -136,8 +130,10 @@ public:
   FaceReactions reactions() const override { return reactions_; }
   std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
   std::string linear_solver() const override { return linear_->name(); }
-  Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
-  Index unknowns() const override { return dof_count_; }
+  Index active_nodes() const override {
+    return static_cast<Index>(step_.map.active_nodes().size());
+  }
+  Index unknowns() const override { return step_.dof_count; }
   double seconds_particle_update() const override { return seconds_particle_update_; }
   // The per-point trial state (the Newmark acceleration lives in the particles, which resize
   // it themselves); the map and the DOF numbering are rebuilt at the start of every step.
@@ -154,7 +150,7 @@ public:
   }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
-  Index size() const override { return dof_count_; }
+  Index size() const override { return step_.dof_count; }
 
   // One share owning every node: local DOF ids are the global ones.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
@@ -177,22 +173,27 @@ public:
   // --- assembly by shares -------------------------------------------------------------------
   void prepare(double lambda_end, double ramp_end, double dt) override {
     dt_ = dt;
-    prepare_step(lambda_end, ramp_end);
+    step_.prepare(scene_, {lambda_end, ramp_end, ramp_committed_, dt, dynamic_, gravity_ramped_},
+                  material_young_);
+    if (f_bar_)
+      f_bar_step_.prepare(scene_.grid, scene_.particles);
+    state_valid_ = false;
+    ++step_count_;
     whole_ = {0, 0, scene_.particles.size()};
     const ParticleShare all[] = {whole_};
     serial_map_ = dof_map(whole_, node_owners(all));
-    if (serial_map_.overlap_count() != dof_count_) // every unknown sits on a point's stencil
+    if (serial_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the serial DOF map does not cover every unknown");
     scale_by_prescribed_motion();
   }
 
-  std::span<const Index> global_node_dofs() const override { return node_dof_; }
+  std::span<const Index> global_node_dofs() const override { return step_.node_dof; }
 
   std::vector<int> node_owners(std::span<const ParticleShare> shares) const override {
     std::vector<int> owner(at(scene_.grid.node_count()), -1);
     for (const ParticleShare& share : shares)
       for (Index p = share.begin; p < share.end; ++p)
-        map_.for_each_node_of(p, [&](Index n, double, const V&) {
+        step_.map.for_each_node_of(p, [&](Index n, double, const V&) {
           int& o = owner[at(n)];
           if (o < 0 || share.index < o)
             o = share.index;
@@ -205,8 +206,8 @@ public:
     std::vector<Index> nodes;
     nodes.reserve(at(share.size() * ParticleGridMap<Dim, Shape>::kStencilSize));
     for (Index p = share.begin; p < share.end; ++p)
-      map_.for_each_node_of(p, [&](Index n, double, const V&) { nodes.push_back(n); });
-    for (const auto& face : ghost_.faces())
+      step_.map.for_each_node_of(p, [&](Index n, double, const V&) { nodes.push_back(n); });
+    for (const auto& face : step_.ghost.faces())
       if (node_owner[at(Ghost::anchor(face))] == share.index)
         nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
     std::sort(nodes.begin(), nodes.end());
@@ -215,7 +216,7 @@ public:
   }
 
   DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const override {
-    return DofMap(share.index, touched_nodes(share, node_owner), Dim, node_dof_, node_owner);
+    return DofMap(share.index, touched_nodes(share, node_owner), Dim, step_.node_dof, node_owner);
   }
 
   bool assemble_share(const ParticleShare& share, const DofMap& map,
@@ -237,9 +238,9 @@ public:
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
   double newmark_acceleration(Index dof, double du) const {
-    return 4.0 / (dt_ * dt_) * (du - dt_ * grid_v_[at(dof)]) - grid_a_[at(dof)];
+    return 4.0 / (dt_ * dt_) * (du - dt_ * step_.grid_v[at(dof)]) - step_.grid_a[at(dof)];
   }
-  Index dof_of(Index node, int a) const { return node_dof_[at(Dim * node + a)]; }
+  Index dof_of(Index node, int a) const { return step_.dof_of(node, a); }
 
   /// The local DOF of component a of node n in the share's map; refuses a node outside it.
   static Index local_dof(const DofMap& map, Index n, int a) {
@@ -258,7 +259,7 @@ private:
   template <class F>
   void for_each_ghost_force(const DofMap& map, const Eigen::VectorXd& du, F&& f) const {
     const auto& G = Ghost::face_matrix();
-    for (const auto& face : ghost_.faces()) {
+    for (const auto& face : step_.ghost.faces()) {
       if (!map.owns_node(Ghost::anchor(face)))
         continue;
       Eigen::Matrix<double, Ghost::kFaceNodes, Dim> u;
@@ -276,7 +277,7 @@ private:
     V u;
     for (int a = 0; a < Dim; ++a) {
       const Index dof = local_dof(map, n, a);
-      u[a] = dof >= 0 ? du[dof] : prescribed_du_[at(Dim * n + a)];
+      u[a] = dof >= 0 ? du[dof] : step_.prescribed_du[at(Dim * n + a)];
     }
     return u;
   }
@@ -289,9 +290,9 @@ private:
     const auto& gids = map.overlap_gids();
     for (Index l = 0; l < map.owned_count(); ++l) {
       const Index gid = gids[at(l)];
-      r[l] = -external_[gid];
+      r[l] = -step_.external[gid];
       if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
-        r[l] += dof_mass_[at(gid)] * newmark_acceleration(gid, du[l]);
+        r[l] += step_.dof_mass[at(gid)] * newmark_acceleration(gid, du[l]);
     }
     for (Index p = share.begin; p < share.end; ++p)
       for_each_internal_force(p, [&](Index n, double, const V& f) {
@@ -315,7 +316,7 @@ private:
         scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
     const M G2 = G.topLeftCorner<Dim, Dim>();
     [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
-    map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+    step_.map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
       V force = G2 * grad;
       if constexpr (Axisymmetric)
         force[0] += hoop_per_weight * w;
@@ -350,19 +351,19 @@ private:
     // Points with the same stencil start couple the same nodes: one clique per start.
     stencil_points_.clear();
     for (Index p = share.begin; p < share.end; ++p)
-      stencil_points_.push_back({scene_.grid.node_id(map_.stencil(p).start), p});
+      stencil_points_.push_back({scene_.grid.node_id(step_.map.stencil(p).start), p});
     std::sort(stencil_points_.begin(), stencil_points_.end());
     stencil_points_.erase(std::unique(stencil_points_.begin(), stencil_points_.end(),
                                       [](const auto& a, const auto& b) { return a[0] == b[0]; }),
                           stencil_points_.end());
     const auto cliques = [&](auto&& f) {
       for (const auto& start_and_point : stencil_points_) {
-        const auto nodes = map_.stencil_nodes(start_and_point[1]);
+        const auto nodes = step_.map.stencil_nodes(start_and_point[1]);
         f(std::span<const Index>(nodes));
       }
       if (f_bar_)
-        f_bar_step_.for_each_cell_nodes(share, map_, f);
-      for (const auto& face : ghost_.faces())
+        f_bar_step_.for_each_cell_nodes(share, step_.map, f);
+      for (const auto& face : step_.ghost.faces())
         if (map.owns_node(Ghost::anchor(face)))
           f(std::span<const Index>(face.nodes));
     };
@@ -388,7 +389,7 @@ private:
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;
-      map_.for_each_node_of(p, [&](Index, double w, const V& grad) {
+      step_.map.for_each_node_of(p, [&](Index, double w, const V& grad) {
         if constexpr (Axisymmetric)
           hoop[k] = w / radius_n(s);
         grads.col(k++) = grad;
@@ -414,14 +415,14 @@ private:
                 v += hoop[i] * AB(Components::kHoop, col);
             K(Dim * i + a, col) = V0 * v;
           }
-      const auto nodes = map_.stencil_nodes(p);
+      const auto nodes = step_.map.stencil_nodes(p);
       tangent.add_block(nodes, K);
     }
     if (f_bar_)
       f_bar_step_.add_coupling(
-          share, map_, P, [&](Index q) { return step_gradient(at(q)); }, tangent);
+          share, step_.map, P, [&](Index q) { return step_gradient(at(q)); }, tangent);
     const auto& G = Ghost::face_matrix();
-    for (const auto& face : ghost_.faces()) {
+    for (const auto& face : step_.ghost.faces()) {
       if (!map.owns_node(Ghost::anchor(face)))
         continue;
       const typename Ghost::FaceMatrix K_face = face.stiffness * G;
@@ -431,100 +432,8 @@ private:
     if (dynamic_) {
       const auto& gids = map.overlap_gids();
       for (Index l = 0; l < map.owned_count(); ++l)
-        tangent.add_diagonal(l, 4.0 * dof_mass_[at(gids[at(l)])] / (dt_ * dt_));
+        tangent.add_diagonal(l, 4.0 * step_.dof_mass[at(gids[at(l)])] / (dt_ * dt_));
     }
-  }
-
-  // Connectivity at the step's start configuration, the unknowns, and the load vector.
-  void prepare_step(double lambda_end, double ramp_end) {
-    const auto& P = scene_.particles;
-    map_.update(scene_.grid, P);
-    const auto nn = static_cast<std::size_t>(scene_.grid.node_count());
-    node_mass_.assign(nn, 0.0);
-    double heaviest = 0;
-    for (const Index n : map_.active_nodes()) {
-      double m = 0;
-      map_.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
-      node_mass_[at(n)] = m;
-      heaviest = std::max(heaviest, m);
-    }
-    if (!scene_.spec.prescribed.empty())
-      locate_prescribed_nodes<Dim>(scene_, ramp_committed_);
-    node_dof_.assign(Dim * nn, -1);
-    prescribed_du_.assign(Dim * nn, 0.0);
-    dof_count_ = 0;
-    for (const Index n : map_.active_nodes()) {
-      const std::int32_t region = scene_.node_prescribed[at(n)];
-      const std::uint8_t mask = scene_.constrained[at(n)];
-      for (int a = 0; a < Dim; ++a) {
-        // A prescribed component wins over a face condition on the same node.
-        if (region >= 0) {
-          const auto& value = scene_.spec.prescribed[at(region)].displacement[at(a)];
-          if (value) {
-            prescribed_du_[at(Dim * n + a)] = (ramp_end - ramp_committed_) * *value;
-            continue;
-          }
-        }
-        if (node_mass_[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
-          continue;
-        node_dof_[at(Dim * n + a)] = dof_count_++;
-      }
-    }
-    prepare_ghost_penalty(heaviest);
-    if (f_bar_)
-      f_bar_step_.prepare(scene_.grid, P);
-    if (dynamic_) {
-      // Lumped mass and the mass-weighted projections of the particles' velocity and
-      // acceleration, per unknown.
-      dof_mass_.assign(at(dof_count_), 0.0);
-      grid_v_.assign(at(dof_count_), 0.0);
-      grid_a_.assign(at(dof_count_), 0.0);
-      for (const Index n : map_.active_nodes()) {
-        V mv = V::Zero(), ma = V::Zero();
-        map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
-          mv += w * P.mass[at(p)] * P.v[at(p)];
-          ma += w * P.mass[at(p)] * P.acceleration[at(p)];
-        });
-        for (int a = 0; a < Dim; ++a) {
-          const Index dof = dof_of(n, a);
-          if (dof < 0)
-            continue;
-          dof_mass_[at(dof)] = node_mass_[at(n)];
-          grid_v_[at(dof)] = mv[a] / node_mass_[at(n)];
-          grid_a_[at(dof)] = ma[a] / node_mass_[at(n)];
-        }
-      }
-    }
-    external_.setZero(static_cast<Eigen::Index>(dof_count_));
-    full_external_.assign(Dim * nn, 0.0);
-    const V g = head<Dim>(scene_.spec.gravity);
-    force_scale_ = 0;
-    for (Index p = 0; p < P.size(); ++p) {
-      const V f = lambda_end * P.external_force[at(p)] +
-                  (gravity_ramped_ ? lambda_end : 1.0) * P.mass[at(p)] * g;
-      force_scale_ = std::max(force_scale_, f.template lpNorm<Eigen::Infinity>());
-      map_.for_each_node_of(p, [&](Index n, double w, const V&) { add_external(n, w * f); });
-    }
-    for (const SurfaceLoad<Dim>& load : scene_.surface_loads) {
-      const V f = (load.constant ? 1.0 : lambda_end) * load.force;
-      force_scale_ = std::max(force_scale_, f.template lpNorm<Eigen::Infinity>());
-      for_each_surface_load_node<Dim>(scene_.grid, P, load, map_.stencil(load.particle).start,
-                                      Shape::kWidth,
-                                      [&](Index n, double w) { add_external(n, w * f); });
-    }
-    if (dynamic_) // inertia sets the force level too: m (|v| / dt + |a|)
-      for (Index p = 0; p < P.size(); ++p)
-        force_scale_ = std::max(
-            force_scale_, P.mass[at(p)] * (P.v[at(p)].norm() / dt_ + P.acceleration[at(p)].norm()));
-    if (force_scale_ == 0) {
-      // No load at all: scale forces by the stiffness of a cell strained by 1e-6.
-      double modulus = 0;
-      for (const auto& m : scene_.materials)
-        modulus = std::max(modulus, m->lame().p_wave_modulus());
-      force_scale_ = 1e-6 * modulus * scene_.grid.cell_size();
-    }
-    state_valid_ = false;
-    ++step_count_;
   }
 
   // A step driven by prescribed displacements (a footing pushed into weightless soil) has its
@@ -532,45 +441,12 @@ private:
   // unknowns at zero increment, which the prescribed increment alone produces. Without this the
   // tolerance would be relative to the no-load fallback and ask for digits nobody needs.
   void scale_by_prescribed_motion() {
-    if (dof_count_ == 0 ||
-        std::none_of(prescribed_du_.begin(), prescribed_du_.end(), [](double u) { return u != 0; }))
+    if (step_.dof_count == 0 || std::none_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
+                                             [](double u) { return u != 0; }))
       return;
     Eigen::VectorXd r;
-    if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dof_count_)), r))
-      force_scale_ = std::max(force_scale_, r.lpNorm<Eigen::Infinity>());
-  }
-
-  // The faces the ghost penalty stabilises at this step's configuration.
-  void prepare_ghost_penalty(double heaviest_node) {
-    const double gamma = scene_.spec.solver.ghost_penalty;
-    if (gamma <= 0.0)
-      return;
-    const auto nn = static_cast<std::size_t>(scene_.grid.node_count());
-    node_active_.assign(nn, 0);
-    node_modulus_.assign(nn, 0.0);
-    for (const Index n : map_.active_nodes()) {
-      node_active_[at(n)] = node_mass_[at(n)] >= kImplicitTinyNodeMassFraction * heaviest_node;
-      map_.for_each_particle_of(n, [&](Index p, double, const V&) {
-        const double E = material_young_[at(scene_.particles.material[at(p)])];
-        node_modulus_[at(n)] = std::max(node_modulus_[at(n)], E);
-      });
-    }
-    std::array<bool, 2 * Dim> mirror_faces{};
-    for (int f = 0; f < 2 * Dim; ++f)
-      mirror_faces[at(f)] = scene_.spec.boundaries[f] == FaceCondition::Roller;
-    if constexpr (Axisymmetric) // the axis is a symmetry line whatever x_min's condition
-      mirror_faces[0] = mirror_faces[0] || scene_.grid.origin()[0] == 0.0;
-    ghost_.build(scene_.grid, node_active_, node_modulus_, gamma, mirror_faces);
-    if constexpr (Axisymmetric)
-      ghost_.weight_by_radius(scene_.grid);
-  }
-
-  void add_external(Index n, const V& f) {
-    for (int a = 0; a < Dim; ++a) {
-      full_external_[at(Dim * n + a)] += f[a];
-      if (const Index dof = dof_of(n, a); dof >= 0)
-        external_[dof] += f[a];
-    }
+    if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(step_.dof_count)), r))
+      step_.force_scale = std::max(step_.force_scale, r.lpNorm<Eigen::Infinity>());
   }
 
   // dF and F of the share's points at the trial increment (local ids of map), and the
@@ -586,7 +462,7 @@ private:
     for (Index p = share.begin; p < share.end; ++p) {
       M dF = M::Identity();
       [[maybe_unused]] double u_r = 0; // the radial increment at the point (axisymmetry)
-      map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+      step_.map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
         const V u = node_increment(map, n, du);
         dF += u * grad.transpose();
         if constexpr (Axisymmetric)
@@ -654,7 +530,7 @@ private:
     auto& P = scene_.particles;
     const double flip = scene_.spec.solver.flip;
     // Reactions: the internal force that the constrained components carry beyond the loads.
-    std::vector<double> internal(full_external_.size(), 0.0);
+    std::vector<double> internal(step_.full_external.size(), 0.0);
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       V dx = V::Zero();
@@ -675,18 +551,18 @@ private:
         // acceleration from the grid. A constrained component moves with its prescribed
         // increment (zero on a fixed face).
         V dv = V::Zero(), v_grid = V::Zero(), a = V::Zero();
-        map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+        step_.map.for_each_node_of(p, [&](Index n, double w, const V&) {
           for (int c = 0; c < Dim; ++c) {
             const Index dof = dof_of(n, c);
             if (dof < 0) {
-              v_grid[c] += w * prescribed_du_[at(Dim * n + c)] / dt;
+              v_grid[c] += w * step_.prescribed_du[at(Dim * n + c)] / dt;
               continue;
             }
             const double a_new = newmark_acceleration(dof, du[dof]);
             a[c] += w * a_new;
-            const double dv_node = 0.5 * dt * (grid_a_[at(dof)] + a_new);
+            const double dv_node = 0.5 * dt * (step_.grid_a[at(dof)] + a_new);
             dv[c] += w * dv_node;
-            v_grid[c] += w * (grid_v_[at(dof)] + dv_node);
+            v_grid[c] += w * (step_.grid_v[at(dof)] + dv_node);
           }
         });
         P.v[s] = flip * (P.v[s] + dv) + (1.0 - flip) * v_grid;
@@ -700,23 +576,23 @@ private:
     for_each_ghost_force(serial_map_, du,
                          [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
-    for (const Index n : map_.active_nodes()) {
+    for (const Index n : step_.map.active_nodes()) {
       const std::int32_t region = scene_.node_prescribed[at(n)];
       if (region < 0)
         continue;
       for (int a = 0; a < Dim; ++a)
         if (is_prescribed(n, a))
           prescribed_reactions_[at(region)][a] +=
-              internal[at(Dim * n + a)] - full_external_[at(Dim * n + a)];
+              internal[at(Dim * n + a)] - step_.full_external[at(Dim * n + a)];
     }
     for (auto& r : reactions_)
       r.setZero();
-    for (const Index n : map_.active_nodes())
+    for (const Index n : step_.map.active_nodes())
       for (int a = 0; a < Dim; ++a)
         if (const int face = scene_.component_face[at(Dim * n + a)];
             face >= 0 && !is_prescribed(n, a))
           reactions_[static_cast<std::size_t>(face)][a] +=
-              internal[at(Dim * n + a)] - full_external_[at(Dim * n + a)];
+              internal[at(Dim * n + a)] - step_.full_external[at(Dim * n + a)];
   }
 
   bool is_prescribed(Index n, int a) const {
@@ -725,18 +601,9 @@ private:
   }
 
   Scene<Dim>& scene_;
-  ParticleGridMap<Dim, Shape> map_;
+  ImplicitStepSetup<Dim, Shape, Axisymmetric> step_; ///< connectivity, unknowns and loads
   std::unique_ptr<LinearSolver> linear_;
-  std::vector<double> node_mass_;
-  std::vector<Index> node_dof_;
   std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
-  Ghost ghost_;
-  std::vector<char> node_active_;    ///< per node: carries mass this step (ghost penalty)
-  std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)
-  Index dof_count_ = 0;
-  Eigen::VectorXd external_;
-  std::vector<double> full_external_;
-  double force_scale_ = 1;
   std::vector<M> trial_dF_;
   std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
   std::vector<Mat3> trial_F_;
@@ -758,15 +625,13 @@ private:
   FaceReactions reactions_{};
   double seconds_particle_update_ = 0;
   bool dynamic_ = false;
-  bool gravity_ramped_ = true;        ///< gravity follows the load factor (no geostatic stress)
-  std::vector<double> prescribed_du_; ///< per (node, component): this step's increment
-  double ramp_committed_ = 0;         ///< prescribed-displacement fraction reached so far
-  bool line_search_first_ = false;    ///< the last step converged with the line search
+  bool gravity_ramped_ = true;     ///< gravity follows the load factor (no geostatic stress)
+  double ramp_committed_ = 0;      ///< prescribed-displacement fraction reached so far
+  bool line_search_first_ = false; ///< the last step converged with the line search
   std::vector<Vec3> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
-  std::vector<double> dof_mass_, grid_v_, grid_a_; ///< Newmark state per unknown (dynamic)
-  bool f_bar_ = false;                             ///< F-bar volume averaging per cell (f_bar.hpp)
+  bool f_bar_ = false; ///< F-bar volume averaging per cell (f_bar.hpp)
   FBarStep<Dim, Axisymmetric> f_bar_step_;
 };
 
