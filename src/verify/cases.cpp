@@ -1,0 +1,32 @@
+// Helpers the verification cases share (cases.hpp).
+#include "cases.hpp"
+
+#include <fmt/format.h>
+
+namespace talus::verify_cases {
+
+Mat3 final_point_stress(const VerificationContext& ctx, const std::string& run,
+                        const std::vector<std::string>& overrides) {
+  const auto dir = ctx.out_dir / run;
+  run_quiet(load_verification_case(ctx, overrides), dir, ctx.threads);
+  const ResultsReader results(dir / "run.h5");
+  Index rows = 0, cols = 0;
+  const auto s = results.read(results.frame_count() - 1, "stress", &rows, &cols);
+  Mat3 sigma; // XDMF Tensor6 order: xx, xy, xz, yy, yz, zz
+  sigma << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
+  return sigma;
+}
+
+RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads) {
+  RunOptions options;
+  options.out_dir = dir;
+  options.force = true;
+  options.threads = threads;
+  options.progress = false;
+  RunResult r = run_case(spec, options);
+  if (r.exit_code != 0)
+    throw NumericalError(fmt::format("run '{}' ended {}: {}", spec.name, r.status, r.message));
+  return r;
+}
+
+} // namespace talus::verify_cases
