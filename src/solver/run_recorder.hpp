@@ -29,7 +29,7 @@ template <int Dim> RunMetadata metadata_of(const Scene<Dim>& scene) {
   m.overrides = spec.overrides;
   m.version = TALUS_VERSION;
   m.dimension = Dim;
-  m.geometry = Dim == 3 ? "3d"
+  m.geometry = Dim == 3                                  ? "3d"
                : spec.geometry == Geometry::Axisymmetric ? "axisymmetric"
                                                          : "plane_strain";
   m.grid_origin = spec.grid.origin;

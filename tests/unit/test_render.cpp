@@ -162,8 +162,8 @@ TEST_F(Render, AnAxisymmetricRunHasComponentsRZT) {
                 .exit_code,
             0);
   EXPECT_TRUE(is_png(hoop));
-  const Outcome o = talus("render " + h5("axi") + " --field stress --component xx -o '" +
-                          bad.string() + "'");
+  const Outcome o =
+      talus("render " + h5("axi") + " --field stress --component xx -o '" + bad.string() + "'");
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.stderr_text.find("allowed: rr, rz, rt, zz, zt, tt"), std::string::npos)
       << o.stderr_text;

@@ -24,7 +24,7 @@ struct RunMetadata {
   std::string version;
   int dimension = 2;
   std::string geometry = "plane_strain"; ///< 2D: plane_strain or axisymmetric; 3D: "3d"
-  Vec3 grid_origin{0, 0, 0}; ///< the first `dimension` components are written
+  Vec3 grid_origin{0, 0, 0};             ///< the first `dimension` components are written
   Vec3 grid_extent{0, 0, 0};
   double cell_size = 0;
   std::vector<std::string> material_names;
