@@ -82,32 +82,26 @@ template <int Dim> CellMarks<Dim> mark_cells(const Scene<Dim>& scene, const Adap
 /// consecutive along x with the same other indices.
 template <int Dim>
 std::vector<std::vector<double>> boxes_of(const Grid<Dim>& grid, const std::set<Cell<Dim>>& cells) {
-  // Reversed indices sort by the last axis first and x last, so runs along x are adjacent.
-  std::vector<Cell<Dim>> rows;
-  for (const Cell<Dim>& c : cells) {
-    Cell<Dim> reversed{};
-    std::reverse_copy(c.begin(), c.end(), reversed.begin());
-    rows.push_back(reversed);
-  }
-  std::sort(rows.begin(), rows.end());
+  // Ordered by the last axis first and x last, so that runs along x are adjacent.
+  std::vector<Cell<Dim>> rows(cells.begin(), cells.end());
+  std::sort(rows.begin(), rows.end(), [](const Cell<Dim>& a, const Cell<Dim>& b) {
+    return std::lexicographical_compare(a.rbegin(), a.rend(), b.rbegin(), b.rend());
+  });
   std::vector<std::vector<double>> boxes;
   const double h = grid.cell_size();
   const Vec<Dim> o = grid.origin();
-  constexpr std::size_t x = Dim - 1; // x is the last of the reversed indices
   for (std::size_t k = 0; k < rows.size();) {
-    Cell<Dim> first = rows[k], last = rows[k];
+    const Cell<Dim> first = rows[k];
+    Cell<Dim> last = first;
     std::size_t next = k + 1;
     while (next < rows.size() &&
-           std::equal(rows[next].begin(), rows[next].begin() + x, first.begin()) &&
-           rows[next][x] == last[x] + 1) {
-      last = rows[next];
-      ++next;
-    }
+           std::equal(first.begin() + 1, first.end(), rows[next].begin() + 1) &&
+           rows[next][0] == last[0] + 1)
+      last = rows[next++];
     std::vector<double> box(2 * Dim);
-    for (int d = 0; d < Dim; ++d) {
-      const auto index = static_cast<std::size_t>(Dim - 1 - d); // back to x, y[, z] order
-      box[static_cast<std::size_t>(d)] = o[d] + h * static_cast<double>(first[index]);
-      box[static_cast<std::size_t>(Dim + d)] = o[d] + h * static_cast<double>(last[index] + 1);
+    for (std::size_t d = 0; d < Dim; ++d) {
+      box[d] = o[static_cast<int>(d)] + h * static_cast<double>(first[d]);
+      box[Dim + d] = o[static_cast<int>(d)] + h * static_cast<double>(last[d] + 1);
     }
     boxes.push_back(std::move(box));
     k = next;
