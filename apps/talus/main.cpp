@@ -36,7 +36,7 @@ int print_info() {
   };
   fmt::print("talus {}\n", TALUS_VERSION);
   fmt::print("build type      {}\n", TALUS_BUILD_TYPE);
-  fmt::print("dimension       2 (plane strain: every analysis), 3 (explicit analyses)\n");
+  fmt::print("dimension       2 (plane strain, axisymmetric), 3: every analysis\n");
   fmt::print("analyses        {}\n", words(choice_names(analysis_choices())));
   fmt::print("geometry (2D)   {}\n", words(choice_names(geometry_choices())));
   fmt::print("explicit scheme {}\n", words(choice_names(update_scheme_choices())));

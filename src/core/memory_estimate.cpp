@@ -47,19 +47,27 @@ constexpr double implicit_point(int dims) {
          5 * sizeof(Index) + sizeof(double);
 }
 
-/// Per node: Scene's constrained, component_face and node_prescribed, and the map's bins and
-/// active flags (and the counting sort's fill array).
-constexpr double kNodeScene = 1 + 2 + 4 + 2 * sizeof(Index) + 1;
-/// Explicit solver: mass and four Dim-vectors (momentum, force, velocity, acceleration).
-constexpr double node_explicit(int dims) {
-  return sizeof(double) + 4 * dims * sizeof(double);
+/// Every array indexed by node is per active node (active_nodes.hpp); nothing is allocated per
+/// node of the grid. Per active node, the map: its lattice id and its bins per stencil
+/// position (int32); per bin (at most one per active node): the nodes per stencil position, the
+/// first node's id and the offset, and while the nodes are sorted two ids per stencil position.
+double node_map(int stencil) {
+  return sizeof(Index) + stencil * sizeof(std::int32_t);
 }
-/// Implicit solver: node mass, Dim DOF numbers, prescribed increments, external and internal
-/// forces per node, the ghost penalty's flags and moduli, the owners of the nodes, and the
-/// lattice assembler's and F-bar's node slots.
+double bin_map(int stencil) {
+  return stencil * (sizeof(std::int32_t) + 2 * sizeof(Index)) + 2 * sizeof(Index);
+}
+/// Explicit solver: mass, four Dim-vectors (momentum, force, velocity, acceleration), the held
+/// components and the reaction faces.
+constexpr double node_explicit(int dims) {
+  return sizeof(double) + 4 * dims * sizeof(double) + 1 + dims;
+}
+/// Implicit solver: node mass, prescribed region and reaction faces, Dim DOF numbers,
+/// prescribed increments, external and internal forces per node, the ghost penalty's flags and
+/// moduli, the owners of the nodes, and the lattice assembler's and F-bar's node slots.
 constexpr double node_implicit(int dims) {
-  return sizeof(double) + dims * (sizeof(Index) + 3 * sizeof(double)) + 1 + sizeof(double) +
-         3 * sizeof(int) + sizeof(Index);
+  return sizeof(double) + 4 + dims + dims * (sizeof(Index) + 3 * sizeof(double)) + 1 +
+         sizeof(double) + 3 * sizeof(int) + sizeof(Index);
 }
 /// The sparse Cholesky / LU factor of a 3D grid's tangent with nested dissection: about this
 /// many entries times n^(4/3) (n unknowns); measured with CHOLMOD on the 3D cantilever.
@@ -176,10 +184,10 @@ std::string MemoryEstimate::describe() const {
   const std::string cells = cells_z > 1
                                 ? fmt::format("{:.3g} x {:.3g} x {:.3g}", cells_x, cells_y, cells_z)
                                 : fmt::format("{:.3g} x {:.3g}", cells_x, cells_y);
-  return fmt::format("{} (grid of {} cells, {:.3g} nodes: {}; {:.3g} material points: "
+  return fmt::format("{} (grid of {} cells, {:.3g} active nodes: {}; {:.3g} material points: "
                      "{}{})",
-                     format_bytes(total_bytes), cells, nodes, format_bytes(grid_bytes), points,
-                     format_bytes(point_bytes),
+                     format_bytes(total_bytes), cells, active_nodes, format_bytes(grid_bytes),
+                     points, format_bytes(point_bytes),
                      matrix_bytes > 0
                          ? "; implicit matrix and factor: " + format_bytes(matrix_bytes)
                          : std::string());
@@ -229,7 +237,9 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
 
   // Per point: what every run has, then what the materials, the map and the solver add.
   double per_point_grown = particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0);
-  double per_point = stencil_bytes(spec.solver.shape, dims) + sizeof(Index) + kFrameBuffer;
+  // The map per point: its stencil, first node id, bin, and place in the sorted bins (twice).
+  double per_point = stencil_bytes(spec.solver.shape, dims) + 3 * sizeof(Index) +
+                     sizeof(std::int32_t) + kFrameBuffer;
   if (explicit_stage && apic)
     per_point += dims * dims * sizeof(double) + dims * sizeof(double);
   if (implicit)
@@ -243,11 +253,14 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.point_bytes =
       grown(e.points) * per_point_grown + e.points * per_point + plastic_points * kPlasticState;
 
-  e.grid_bytes = e.nodes * kNodeScene + e.active_nodes * sizeof(Index);
+  const int stencil =
+      static_cast<int>(std::pow(spec.solver.shape == ShapeFunction::Gimp ? 3 : 2, dims));
+  const double bins = std::min(e.points, e.active_nodes);
+  e.grid_bytes = e.active_nodes * node_map(stencil) + bins * bin_map(stencil);
   if (explicit_stage)
-    e.grid_bytes += e.nodes * node_explicit(dims);
+    e.grid_bytes += e.active_nodes * node_explicit(dims);
   if (implicit) {
-    e.grid_bytes += e.nodes * node_implicit(dims);
+    e.grid_bytes += e.active_nodes * node_implicit(dims);
     // The tangent: each unknown couples with the unknowns of the nodes that share a point with
     // it (2W - 1 nodes per direction, W = 3 with GIMP, 2 with linear hats; with F-bar the
     // nodes that share a cell's points, 2W + 1), Dim per node; values and indices, held by

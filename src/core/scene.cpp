@@ -305,46 +305,6 @@ template <int Dim> void apply_tractions(Scene<Dim>& scene, const std::vector<Vec
   }
 }
 
-template <int Dim> void constrain_faces(Scene<Dim>& scene) {
-  const auto& g = scene.grid;
-  const auto& bc = scene.spec.boundaries;
-  scene.constrained.assign(static_cast<std::size_t>(g.node_count()), 0);
-  scene.component_face.assign(Dim * static_cast<std::size_t>(g.node_count()), -1);
-  auto mask_of = [](FaceCondition c, int normal_axis) -> std::uint8_t {
-    switch (c) {
-    case FaceCondition::Free:
-      return 0;
-    case FaceCondition::Fixed:
-      return static_cast<std::uint8_t>((1u << Dim) - 1);
-    case FaceCondition::Roller:
-      return static_cast<std::uint8_t>(1u << normal_axis);
-    }
-    return 0;
-  };
-  for (Index id = 0; id < g.node_count(); ++id) {
-    const auto ijk = g.node_ijk(id);
-    for (int face = 0; face < face_count(Dim); ++face) {
-      const int axis = face_axis(face);
-      // The boundary node and the ghost node behind it (inside the wall) share the condition.
-      const bool on_face = face_is_upper(face) ? ijk[axis] >= g.cells(axis) : ijk[axis] <= 0;
-      if (!on_face || bc[face] == FaceCondition::Free)
-        continue;
-      const std::uint8_t mask = mask_of(bc[face], axis);
-      scene.constrained[static_cast<std::size_t>(id)] |= mask;
-      for (int d = 0; d < Dim; ++d) {
-        auto& owner = scene.component_face[Dim * static_cast<std::size_t>(id) + d];
-        if ((mask & (1u << d)) && (owner < 0 || d == axis))
-          owner = static_cast<std::int8_t>(face);
-      }
-    }
-  }
-  // Axisymmetry: a node on the axis (or behind it) moves along it only, whatever the faces say.
-  if (scene.spec.geometry == Geometry::Axisymmetric)
-    for (Index id = 0; id < g.node_count(); ++id)
-      if (g.node_position(g.node_ijk(id))[0] <= 1e-9 * g.cell_size())
-        scene.constrained[static_cast<std::size_t>(id)] |= 1u;
-}
-
 // Geostatic or uniform initial stresses of the bodies that ask for one: the particles' stress
 // and the elastic strain their material starts from. Geostatic: the vertical axis is y.
 template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
@@ -386,31 +346,6 @@ template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
 
 } // namespace
 
-template <int Dim> void locate_prescribed_nodes(Scene<Dim>& scene, double ramp) {
-  const CaseSpec& spec = scene.spec;
-  scene.node_prescribed.assign(static_cast<std::size_t>(scene.grid.node_count()), -1);
-  const double tol = 1e-9 * scene.grid.cell_size();
-  for (Index id = 0; id < scene.grid.node_count(); ++id) {
-    const Vec<Dim> x = scene.grid.node_position(scene.grid.node_ijk(id));
-    for (std::size_t r = 0; r < spec.prescribed.size(); ++r) {
-      const PrescribedSpec& box = spec.prescribed[r];
-      // The box moves in whole cells, the prescribed displacement rounded to the nearest
-      // multiple of h, so that it keeps holding the same number of node layers (a box one
-      // layer thick would otherwise lose its nodes as soon as it moves).
-      const double h = scene.grid.cell_size();
-      Vec<Dim> shift = Vec<Dim>::Zero();
-      for (int d = 0; d < Dim; ++d)
-        if (box.displacement[static_cast<std::size_t>(d)])
-          shift[d] = h * std::round(ramp * *box.displacement[static_cast<std::size_t>(d)] / h);
-      if ((x.array() >= (head<Dim>(box.min) + shift).array() - tol).all() &&
-          (x.array() <= (head<Dim>(box.max) + shift).array() + tol).all()) {
-        scene.node_prescribed[static_cast<std::size_t>(id)] = static_cast<std::int32_t>(r);
-        break;
-      }
-    }
-  }
-}
-
 template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
   Scene<Dim> scene;
   scene.spec = spec;
@@ -441,9 +376,9 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
     scene.particles.external_force[static_cast<std::size_t>(p)] += head<Dim>(load.force);
   }
   apply_tractions<Dim>(scene, lattice);
-  constrain_faces<Dim>(scene);
-
-  locate_prescribed_nodes<Dim>(scene, 0.0);
+  scene.face_conditions =
+      FaceConditions<Dim>(scene.grid, spec.boundaries, spec.geometry == Geometry::Axisymmetric);
+  place_prescribed_boxes<Dim>(scene, 0.0);
   for (const ProbeSpec& probe : spec.probes) {
     Index p = -1;
     if (probe.particle) {
@@ -465,7 +400,5 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
 
 template Scene<2> build_scene<2>(const CaseSpec&);
 template Scene<3> build_scene<3>(const CaseSpec&);
-template void locate_prescribed_nodes<2>(Scene<2>&, double);
-template void locate_prescribed_nodes<3>(Scene<3>&, double);
 
 } // namespace talus

@@ -4,6 +4,7 @@
 #include "talus/io/case_reader.hpp"
 
 #include "talus/core/memory_estimate.hpp"
+#include "talus/grid/grid.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/material/plastic_material.hpp"
 
@@ -164,6 +165,15 @@ GridSpec Validator::grid(const Item& it) const {
                              "xyz"[d], num(g.extent[d]), num(g.cell_size), num(g.extent[d]),
                              num(g.cell_size), num(cells)));
   }
+  // Nodes are numbered on the lattice (ghost layers included) with 64-bit integers; storage
+  // follows the material, so a huge grid with a small body would otherwise be fine.
+  double nodes = 1;
+  for (int d = 0; d < dimension_; ++d)
+    nodes *= std::round(g.extent[d] / g.cell_size) + 3;
+  if (nodes > kMaxGridNodes)
+    fail(cell, fmt::format("the grid has {} nodes (ghost layers included), more than Talus can "
+                           "number ({}); use a coarser grid.cell_size or a smaller grid.extent",
+                           num(nodes), num(kMaxGridNodes)));
   return g;
 }
 

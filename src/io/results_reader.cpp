@@ -212,22 +212,33 @@ std::string ResultsReader::case_text() const {
 }
 
 std::string ResultsReader::metadata_string(const std::string& name) const {
+  return attribute_string("/metadata", name);
+}
+
+std::string ResultsReader::frame_attribute(Index frame, const std::string& group,
+                                           const std::string& name) const {
+  return attribute_string(h5::frame_group_name(frame) + "/" + group, name);
+}
+
+std::string ResultsReader::attribute_string(const std::string& group,
+                                            const std::string& name) const {
   const auto fid = static_cast<hid_t>(file_);
   const auto path = file_name(fid);
-  const Site s{path, "/metadata@" + name};
-  Handle g = h5::group_handle(H5Gopen2(fid, "/metadata", H5P_DEFAULT), Site{path, "/metadata"},
-                              "H5Gopen2");
+  const Site s{path, group + "@" + name};
+  Handle g =
+      h5::group_handle(H5Gopen2(fid, group.c_str(), H5P_DEFAULT), Site{path, group}, "H5Gopen2");
   const htri_t e = H5Aexists(g.get(), name.c_str());
   h5::check_status(e < 0 ? -1 : 0, "H5Aexists", s.object, path);
   if (e == 0)
-    throw std::runtime_error("metadata attribute '" + name + "' is not in '" + path.string() + "'");
+    throw std::runtime_error("attribute '" + name + "' is not in '" + path.string() + ":" + group +
+                             "'");
   Handle a = h5::attribute_handle(H5Aopen(g.get(), name.c_str(), H5P_DEFAULT), s, "H5Aopen");
   Handle type = h5::type_handle(H5Aget_type(a.get()), s, "H5Aget_type");
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls == H5T_STRING)
     return h5::read_string(a.get(), true, s);
   if (cls != H5T_INTEGER && cls != H5T_FLOAT)
-    throw std::runtime_error("metadata attribute '" + name + "' in '" + path.string() +
+    throw std::runtime_error("attribute '" + name + "' in '" + path.string() + ":" + group +
                              "' is neither text nor a number");
   // Numbers are returned as text: integers as such, doubles in shortest round-trip form, array
   // entries separated by single spaces.

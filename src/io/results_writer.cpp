@@ -110,9 +110,30 @@ void append_tensor6(std::vector<double>& buf, const Mat3& s) {
   buf.insert(buf.end(), t6, t6 + 6);
 }
 
-/// The grid/ group: node mass and stress on the physical nodes (ghost layers left out), shaped
-/// like the lattice (z, y, x: x fastest; one node of z in 2D), the shape VTK's XDMF readers
-/// expect of a structured mesh's data, with the lattice as attributes.
+/// The physical nodes (ghost layers left out) of the box a recovery covers: their first
+/// node's lattice coordinates and their count per direction (x, y, z; one node of z in 2D).
+template <int Dim> struct GridBox {
+  std::array<Index, 3> first{0, 0, 0}, nodes{1, 1, 1};
+  explicit GridBox(const RecoveredStress<Dim>& r) {
+    for (int d = 0; d < Dim; ++d) {
+      const Index lo = std::max<Index>(r.first[d], 0);
+      const Index hi = std::min<Index>(r.first[d] + r.count[d] - 1, r.grid.cells(d));
+      first[static_cast<std::size_t>(d)] = lo;
+      nodes[static_cast<std::size_t>(d)] = std::max<Index>(hi - lo + 1, 0);
+    }
+  }
+  Vec3 origin(const Grid<Dim>& grid) const {
+    Vec3 o = Vec3::Zero();
+    for (int d = 0; d < Dim; ++d)
+      o[d] = grid.origin()[d] +
+             grid.cell_size() * static_cast<double>(first[static_cast<std::size_t>(d)]);
+    return o;
+  }
+};
+
+/// The grid/ group: node mass and stress on the physical nodes of the box the material's
+/// stencils reach, shaped like the lattice (z, y, x: x fastest; one node of z in 2D), the shape
+/// VTK's XDMF readers expect of a structured mesh's data, with the box's lattice as attributes.
 template <int Dim>
 void write_grid_group(hid_t frame, const std::string& frame_name, const RecoveredStress<Dim>& r,
                       const std::filesystem::path& file) {
@@ -120,12 +141,11 @@ void write_grid_group(hid_t frame, const std::string& frame_name, const Recovere
   const Site s{file, name};
   Handle g = h5::group_handle(
       H5Gcreate2(frame, h5::kGridGroup, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), s, "H5Gcreate2");
-  const Grid<Dim>& grid = r.grid;
-  std::array<Index, 3> nodes{1, 1, 1};
-  for (int d = 0; d < Dim; ++d)
-    nodes[static_cast<std::size_t>(d)] = grid.cells(d) + 1;
-  const double h = grid.cell_size();
-  h5::write_double_attribute(g.get(), "origin", grid.origin().data(), Dim, false, s);
+  const GridBox<Dim> box(r);
+  const auto& nodes = box.nodes;
+  const double h = r.grid.cell_size();
+  const Vec3 origin = box.origin(r.grid);
+  h5::write_double_attribute(g.get(), "origin", origin.data(), Dim, false, s);
   h5::write_double_attribute(g.get(), "spacing", &h, 1, true, s);
   h5::write_int64_attribute(g.get(), "nodes_x", nodes[0], s);
   h5::write_int64_attribute(g.get(), "nodes_y", nodes[1], s);
@@ -139,11 +159,11 @@ void write_grid_group(hid_t frame, const std::string& frame_name, const Recovere
     for (Index j = 0; j < nodes[1]; ++j)
       for (Index i = 0; i < nodes[0]; ++i) {
         std::array<Index, Dim> ijk{};
-        ijk[0] = i;
-        ijk[1] = j;
+        ijk[0] = box.first[0] + i;
+        ijk[1] = box.first[1] + j;
         if constexpr (Dim == 3)
-          ijk[2] = k;
-        const auto node = static_cast<std::size_t>(grid.node_id(ijk));
+          ijk[2] = box.first[2] + k;
+        const std::size_t node = r.box_index(ijk);
         mass.push_back(r.node_mass[node]);
         stress.insert(stress.end(), r.node_stress[node].data(), r.node_stress[node].data() + 6);
       }
@@ -359,8 +379,6 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p
         buf.insert(buf.end(), s.data(), s.data() + 6);
       write_dataset(g.get(), gname, h5::kStressSmoothed, hn, buf, f);
       write_grid_group<Dim>(g.get(), gname, *post.stress, f);
-      for (int d = 0; d < Dim; ++d)
-        grid_nodes_[static_cast<std::size_t>(d)] = post.stress->grid.cells(d) + 1;
     }
     if (post.voxels)
       write_voxels_group<Dim>(g.get(), gname, *post.voxels, f);
@@ -370,7 +388,13 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p
                     f);
   h5::check_status(file.close(), "H5Fclose", gname, f);
 
-  frame_info_.push_back({step, time, n, fields, post.stress != nullptr, post.voxels != nullptr});
+  FrameInfo info{step, time, n, fields, post.stress != nullptr, post.voxels != nullptr};
+  if (post.stress) {
+    const GridBox<Dim> box(*post.stress);
+    info.grid_nodes = box.nodes;
+    info.grid_origin = box.origin(post.stress->grid);
+  }
+  frame_info_.push_back(std::move(info));
   ++frames_;
   write_xdmf();
 }

@@ -173,9 +173,7 @@ void ResultsWriter::write_xdmf() const {
   if (any_grid) {
     // The physical grid nodes as a structured mesh. In 2D a 3DCoRectMesh one node thick: both
     // VTK XDMF readers map a 2DCoRectMesh onto the wrong axes. XDMF lists dimensions, origin
-    // and spacing slowest first (z, y, x).
-    const Index nx = grid_nodes_[0], ny = grid_nodes_[1], nz = grid_nodes_[2];
-    const double oz = dims == 3 ? metadata_.grid_origin.z() : 0.0;
+    // and spacing slowest first (z, y, x). Each frame's mesh is the box its material reaches.
     const double h = metadata_.cell_size;
     x += fmt::format("    <Grid Name=\"{}_grid\" GridType=\"Collection\" "
                      "CollectionType=\"Temporal\">\n",
@@ -185,6 +183,8 @@ void ResultsWriter::write_xdmf() const {
       if (!fr.recovered)
         continue;
       const std::string gg = h5::frame_group_name(static_cast<long long>(k)) + "/" + h5::kGridGroup;
+      const Index nx = fr.grid_nodes[0], ny = fr.grid_nodes[1], nz = fr.grid_nodes[2];
+      const double oz = dims == 3 ? fr.grid_origin.z() : 0.0;
       x += frame_header(k, fr.time, fr.step);
       x +=
           fmt::format("        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n",
@@ -192,7 +192,7 @@ void ResultsWriter::write_xdmf() const {
       x += "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
       x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
                        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
-                       oz, metadata_.grid_origin.y(), metadata_.grid_origin.x());
+                       oz, fr.grid_origin.y(), fr.grid_origin.x());
       x += fmt::format("          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
                        "Format=\"XML\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
                        h, h, h);

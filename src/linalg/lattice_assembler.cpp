@@ -6,11 +6,12 @@
 
 namespace talus {
 
-template <int Dim> void LatticeAssembler<Dim>::start_structure(const Grid<Dim>& grid, Index size) {
-  grid_ = &grid;
+template <int Dim>
+void LatticeAssembler<Dim>::start_structure(const ActiveNodes<Dim>& nodes, Index size) {
+  nodes_ = &nodes;
   size_ = size;
   reach_ = 0;
-  slot_of_node_.assign(at(grid.node_count()), -2);
+  slot_of_node_.assign(at(nodes.size()), -2);
   node_of_slot_.clear();
   first_dof_.clear();
   component_offset_.clear();
@@ -21,7 +22,7 @@ template <int Dim> void LatticeAssembler<Dim>::widen(std::span<const Index> node
   lo.fill(std::numeric_limits<Index>::max());
   hi.fill(std::numeric_limits<Index>::min());
   for (const Index n : nodes) {
-    const auto ijk = grid_->node_ijk(n);
+    const auto ijk = nodes_->ijk(n);
     for (int d = 0; d < Dim; ++d) {
       lo[d] = std::min(lo[d], ijk[d]);
       hi[d] = std::max(hi[d], ijk[d]);
@@ -32,7 +33,7 @@ template <int Dim> void LatticeAssembler<Dim>::widen(std::span<const Index> node
 }
 
 template <int Dim> Index LatticeAssembler<Dim>::lattice_code(Index n) const {
-  const auto ijk = grid_->node_ijk(n);
+  const auto ijk = nodes_->ijk(n);
   const Index P = 2 * reach_ + 1;
   Index code = 0;
   for (int d = Dim - 1; d >= 0; --d)
@@ -54,7 +55,7 @@ template <int Dim> void LatticeAssembler<Dim>::allocate_neighbour_tables() {
   complete_.resize(node_of_slot_.size());
   for (std::size_t s = 0; s < node_of_slot_.size(); ++s) {
     slot_code_[s] = lattice_code(node_of_slot_[s]);
-    slot_ijk_[s] = grid_->node_ijk(node_of_slot_[s]);
+    slot_ijk_[s] = nodes_->ijk(node_of_slot_[s]);
     complete_[s] =
         std::all_of(component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim),
                     component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim + Dim),
@@ -81,7 +82,7 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
   const Index P = 2 * reach_ + 1;
   std::array<Index, Dim> stride{};
   for (int d = 0; d < Dim; ++d)
-    stride[d] = d == 0 ? 1 : stride[d - 1] * grid_->nodes(d - 1);
+    stride[d] = d == 0 ? 1 : stride[d - 1] * nodes_->grid().nodes(d - 1);
   auto unknowns_of = [&](std::size_t s) {
     int count = 0;
     for (int a = 0; a < Dim; ++a)
@@ -105,7 +106,8 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
       Index flat = 0, rest = c;
       for (int d = 0; d < Dim; ++d, rest /= P)
         flat += (rest % P - reach_) * stride[d];
-      const int k = slot_of_node_[at(node_of_slot_[l] + flat)];
+      const Index n = nodes_->find_lattice_id(nodes_->lattice_id(node_of_slot_[l]) + flat);
+      const int k = slot_of_node_[at(n)];
       coupled.push_back({first_dof_[at(k)], c, k});
     }
     std::sort(coupled.begin(), coupled.end());

@@ -2,16 +2,17 @@
 //
 // Why not the solver's ParticleGridMap: rebuilding its stencils, bins and active-node list
 // costs about as much as a whole explicit step, and recovery needs only each particle's
-// weights. So the projection is one serial scatter over the particles into dense node arrays
-// (serial, hence identical for any thread count) that keeps every particle's weights, and the
-// smoothing a parallel loop over the particles that reuses them. The weights come from the
-// solver's 1D kernels.
+// weights. So the projection is one serial scatter over the particles into node arrays over
+// the box of nodes their stencils reach (serial, hence identical for any thread count) that
+// keeps every particle's weights, and the smoothing a parallel loop over the particles that
+// reuses them. The weights come from the solver's 1D kernels.
 #include "talus/post/stress_recovery.hpp"
 
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/shape/shape_functions.hpp"
 
+#include <algorithm>
 #include <array>
 #include <fmt/format.h>
 #include <stdexcept>
@@ -47,8 +48,8 @@ template <int Dim, class Shape> struct Weights {
     }
   }
 
-  /// f(node_id, weight) for the W^Dim nodes of the stencil, x fastest.
-  template <class F> void for_each_node(const Grid<Dim>& grid, F&& f) const {
+  /// f(node's lattice coordinates, weight) for the W^Dim nodes of the stencil, x fastest.
+  template <class F> void for_each_node(F&& f) const {
     std::array<int, Dim> k{};
     while (true) {
       std::array<Index, Dim> node{};
@@ -57,7 +58,7 @@ template <int Dim, class Shape> struct Weights {
         node[d] = start[d] + k[d];
         w *= N[d][static_cast<std::size_t>(k[d])];
       }
-      f(grid.node_id(node), w);
+      f(node, w);
       int d = 0;
       while (d < Dim && ++k[d] == W)
         k[d++] = 0;
@@ -79,28 +80,36 @@ namespace {
 
 template <int Dim, class Shape> class RecoveryFor final : public StressRecovery<Dim>::Impl {
 public:
-  explicit RecoveryFor(const Grid<Dim>& grid) {
-    out_.grid = grid;
-    const auto nodes = static_cast<std::size_t>(grid.node_count());
-    out_.node_mass.resize(nodes);
-    out_.node_stress.resize(nodes);
-  }
+  explicit RecoveryFor(const Grid<Dim>& grid) { out_.grid = grid; }
 
   const RecoveredStress<Dim>& recover(const Particles<Dim>& particles) override {
     const Grid<Dim>& grid = out_.grid;
     const auto n = static_cast<std::size_t>(particles.size());
     weights_.resize(n);
     out_.smoothed_stress.resize(n);
-    std::fill(out_.node_mass.begin(), out_.node_mass.end(), 0.0);
-    // Sums of Phi_ip m_p sigma_p first, divided by m_i below.
-    std::fill(out_.node_stress.begin(), out_.node_stress.end(), SymmetricStress::Zero());
+    std::array<Index, Dim> last{};
     for (std::size_t s = 0; s < n; ++s) {
       weights_[s] = Weights<Dim, Shape>(grid, particles, static_cast<Index>(s));
+      for (int d = 0; d < Dim; ++d) {
+        const Index start = weights_[s].start[static_cast<std::size_t>(d)];
+        out_.first[d] = s == 0 ? start : std::min(out_.first[d], start);
+        last[d] = s == 0 ? start + Shape::kWidth - 1 : std::max(last[d], start + Shape::kWidth - 1);
+      }
+    }
+    std::size_t box = n > 0 ? 1 : 0;
+    for (int d = 0; d < Dim; ++d) {
+      out_.count[d] = n > 0 ? last[d] - out_.first[d] + 1 : 0;
+      box *= static_cast<std::size_t>(out_.count[d]);
+    }
+    // Sums of Phi_ip m_p sigma_p first, divided by m_i below.
+    out_.node_mass.assign(box, 0.0);
+    out_.node_stress.assign(box, SymmetricStress::Zero());
+    for (std::size_t s = 0; s < n; ++s) {
       const double m = particles.mass[s];
       const SymmetricStress weighted = m * components(particles.stress[s]);
-      weights_[s].for_each_node(grid, [&](Index node, double w) {
-        out_.node_mass[static_cast<std::size_t>(node)] += w * m;
-        out_.node_stress[static_cast<std::size_t>(node)] += w * weighted;
+      weights_[s].for_each_node([&](const std::array<Index, Dim>& node, double w) {
+        out_.node_mass[out_.box_index(node)] += w * m;
+        out_.node_stress[out_.box_index(node)] += w * weighted;
       });
     }
     // A node inside a stencil can still get zero weight (the edge of a GIMP support).
@@ -110,8 +119,8 @@ public:
     parallel_for(particles.size(), [&](Index p) {
       const auto s = static_cast<std::size_t>(p);
       SymmetricStress smoothed = SymmetricStress::Zero();
-      weights_[s].for_each_node(grid, [&](Index node, double w) {
-        smoothed += w * out_.node_stress[static_cast<std::size_t>(node)];
+      weights_[s].for_each_node([&](const std::array<Index, Dim>& node, double w) {
+        smoothed += w * out_.node_stress[out_.box_index(node)];
       });
       out_.smoothed_stress[s] = smoothed;
     });

@@ -22,12 +22,6 @@ class ExplicitSolverImpl final : public ExplicitSolver {
 
 public:
   explicit ExplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
-    const auto nn = static_cast<std::size_t>(scene.grid.node_count());
-    mass_.assign(nn, 0.0);
-    momentum_.assign(nn, V::Zero());
-    force_.assign(nn, V::Zero());
-    velocity_.assign(nn, V::Zero());
-    acceleration_.assign(nn, V::Zero());
     const auto& P = scene.particles;
     for (auto& r : reactions_)
       r.setZero();
@@ -41,6 +35,7 @@ public:
 
   void step(double dt) override {
     map_.update(scene_.grid, scene_.particles);
+    size_node_arrays();
     if constexpr (Axisymmetric) {
       const auto& P = scene_.particles;
       radius_n_.resize(at(P.size()));
@@ -90,20 +85,37 @@ public:
   Energies energies() const override { return particle_energies(scene_, true); }
 
   FaceReactions reactions() const override { return reactions_; }
-  Index active_nodes() const override { return static_cast<Index>(map_.active_nodes().size()); }
+  Index active_nodes() const override { return map_.node_count(); }
 
   std::optional<StateViolation> grid_violation() const override {
-    if (auto v = find_node_violation<Dim>(scene_.grid, active(), velocity_, "grid velocity"))
+    if (auto v = find_node_violation<Dim>(map_.nodes(), velocity_, "grid velocity"))
       return v;
-    return find_node_violation<Dim>(scene_.grid, active(), acceleration_, "grid acceleration");
+    return find_node_violation<Dim>(map_.nodes(), acceleration_, "grid acceleration");
   }
 
   // The map and the grid arrays are rebuilt every step: nothing is kept per point.
   void particles_changed() override {}
 
 private:
-  const std::vector<Index>& active() const { return map_.active_nodes(); }
-  V node_position(Index n) const { return scene_.grid.node_position(scene_.grid.node_ijk(n)); }
+  Index node_count() const { return map_.node_count(); }
+  V node_position(Index n) const { return map_.nodes().position(n); }
+
+  // The step's node arrays, one entry per active node, and the faces' conditions on them.
+  void size_node_arrays() {
+    const auto nn = at(node_count());
+    mass_.resize(nn);
+    momentum_.resize(nn);
+    force_.resize(nn);
+    velocity_.resize(nn);
+    acceleration_.resize(nn);
+    held_.resize(nn);
+    reaction_face_.resize(nn);
+    for (Index n = 0; n < node_count(); ++n) {
+      const auto ijk = map_.nodes().ijk(n);
+      held_[at(n)] = scene_.face_conditions.held(ijk);
+      reaction_face_[at(n)] = scene_.face_conditions.reaction_faces(ijk);
+    }
+  }
 
   // The particle's velocity field evaluated at a node: v_p, plus C_p (x_i - x_p) with APIC.
   V particle_velocity_at(Index p, const V& xi) const {
@@ -116,9 +128,7 @@ private:
 
   void gather_mass_momentum() {
     const auto& P = scene_.particles;
-    const auto& nodes = active();
-    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
-      const Index n = nodes[at(k)];
+    parallel_for(node_count(), [&](Index n) {
       double m = 0;
       V mv = V::Zero();
       const V xi = node_position(n);
@@ -135,9 +145,7 @@ private:
   void gather_forces() {
     const auto& P = scene_.particles;
     const V g = head<Dim>(scene_.spec.gravity);
-    const auto& nodes = active();
-    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
-      const Index n = nodes[at(k)];
+    parallel_for(node_count(), [&](Index n) {
       V f = V::Zero();
       map_.for_each_particle_of(n, [&](Index p, double w, const V& grad) {
         const auto s = at(p);
@@ -150,13 +158,13 @@ private:
       force_[at(n)] = f;
     });
     for (const SurfaceLoad<Dim>& load : scene_.surface_loads)
-      for_each_surface_load_node<Dim>(scene_.grid, P, load, map_.stencil(load.particle).start,
+      for_each_surface_load_node<Dim>(map_.nodes(), P, load, map_.stencil(load.particle).start,
                                       Shape::kWidth,
                                       [&](Index n, double w) { force_[at(n)] += w * load.force; });
   }
 
   void constrain(Index n, V& vec) const {
-    const std::uint8_t mask = scene_.constrained[at(n)];
+    const std::uint8_t mask = held_[at(n)];
     for (int d = 0; d < Dim; ++d)
       if (mask & (1u << d))
         vec[d] = 0.0;
@@ -169,7 +177,7 @@ private:
   // them. In 3D, where a node's weight is a product of three, that made the rigid translation's
   // stress 1e-11 E and the colliding spheres' momentum drift 1e-12 (4.5e-14 and 8e-16 now).
   void grid_velocity_from_momentum() {
-    for (const Index n : active()) {
+    for (Index n = 0; n < node_count(); ++n) {
       if (mass_[at(n)] <= 0.0) {
         velocity_[at(n)].setZero();
         continue;
@@ -183,11 +191,10 @@ private:
   void grid_acceleration(double dt) {
     for (auto& r : reactions_)
       r.setZero();
-    for (const Index n : active()) {
+    for (Index n = 0; n < node_count(); ++n) {
       const auto s = at(n);
       for (int d = 0; d < Dim; ++d)
-        if (const int face = scene_.component_face[Dim * s + static_cast<std::size_t>(d)];
-            face >= 0)
+        if (const int face = reaction_face_[s][static_cast<std::size_t>(d)]; face >= 0)
           reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
       if (mass_[s] <= 0.0) {
         acceleration_[s].setZero();
@@ -260,9 +267,7 @@ private:
   // dt omega^2 (x - c) whose gradient dt omega^2 I entered L and F every step.
   void remap_velocity() {
     const auto& P = scene_.particles;
-    const auto& nodes = active();
-    parallel_for(static_cast<Index>(nodes.size()), [&](Index k) {
-      const Index n = nodes[at(k)];
+    parallel_for(node_count(), [&](Index n) {
       if (mass_[at(n)] <= 0.0) {
         velocity_[at(n)].setZero();
         return;
@@ -322,6 +327,8 @@ private:
   ParticleGridMap<Dim, Shape> map_;
   std::vector<double> mass_;
   std::vector<V> momentum_, force_, velocity_, acceleration_;
+  std::vector<std::uint8_t> held_;                          ///< per node: FaceConditions::held
+  std::vector<std::array<std::int8_t, Dim>> reaction_face_; ///< per node and component
   std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
   std::vector<double> radius_n_; // axisymmetry: the points' radii at the start of the step
   FaceReactions reactions_{};

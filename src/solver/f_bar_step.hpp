@@ -26,11 +26,11 @@ template <int Dim, bool Axisymmetric> class FBarStep {
   using Components = StepComponents<Dim, Axisymmetric>;
 
 public:
-  /// Groups the points by cell at the step's start.
-  void prepare(const Grid<Dim>& grid, const Particles<Dim>& points) {
+  /// Groups the points by cell at the step's start; `nodes`: the step's active node count.
+  void prepare(const Grid<Dim>& grid, const Particles<Dim>& points, Index nodes) {
     cells_.build(grid, points);
     resize(points.size());
-    node_slot_.assign(static_cast<std::size_t>(grid.node_count()), -1);
+    node_slot_.assign(static_cast<std::size_t>(nodes), -1);
   }
   void resize(Index points) {
     trial_j_.resize(at(points), 1.0);
@@ -166,7 +166,7 @@ private:
   std::vector<double> trial_j_;    ///< per point: det dF at the trial increment
   std::vector<double> cell_j_bar_; ///< per cell: volume-weighted average of j
   std::vector<StepVector<Dim, Axisymmetric>> dG_dJbar_; ///< per point: H = dG/dJ_bar
-  std::vector<Index> node_slot_;  ///< per grid node: its place in cell_nodes_, -1 outside
+  std::vector<Index> node_slot_;  ///< per active node: its place in cell_nodes_, -1 outside
   std::vector<Index> cell_nodes_; ///< the nodes of the cell being coupled
   Eigen::VectorXd u_, v_;         ///< the cell's rank-one factors, Dim entries per node
   Eigen::MatrixXd block_;         ///< u v^T

@@ -30,56 +30,60 @@ template <int Dim> const typename GhostPenalty<Dim>::FaceMatrix& GhostPenalty<Di
 }
 
 template <int Dim>
-void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& node_active,
+void GhostPenalty<Dim>::build(const ActiveNodes<Dim>& nodes, const std::vector<char>& node_active,
                               const std::vector<double>& node_modulus, double gamma,
                               const std::array<bool, 2 * Dim>& mirror_faces) {
   faces_.clear();
   if (gamma <= 0.0)
     return;
+  const Grid<Dim>& grid = nodes.grid();
   // Cells are indexed by their lowest node in physical lattice coordinates shifted by the ghost
   // layer, from the ghost layer (0) to the last physical cell: nodes(d) - 1 of them along d.
+  // Only the cells whose corners all carry mass are listed, ascending in their flat index (the
+  // order of their lowest nodes), so nothing is stored for the empty part of the grid.
   using Cell = std::array<Index, Dim>;
   Cell cells{};
-  Index cell_count = 1;
-  for (int d = 0; d < Dim; ++d) {
+  for (int d = 0; d < Dim; ++d)
     cells[d] = grid.nodes(d) - 1;
-    cell_count *= cells[d];
-  }
   auto flat = [&](const Cell& c) {
     Index id = 0;
     for (int d = Dim - 1; d >= 0; --d)
       id = id * cells[d] + c[d];
-    return static_cast<std::size_t>(id);
+    return id;
   };
-  auto unflat = [&](Index id) {
-    Cell c{};
-    for (int d = 0; d < Dim; ++d) {
-      c[d] = id % cells[d];
-      id /= cells[d];
-    }
-    return c;
-  };
-  // The node at the cell c's corner shifted by `offset` (one lattice step per set bit, axis 0
-  // the lowest bit).
+  // The node number at the cell c's corner shifted by `offset` (one lattice step per set bit,
+  // axis 0 the lowest bit), -1 if it carries no state.
   auto node = [&](Cell c, unsigned offset) {
     for (int d = 0; d < Dim; ++d)
       c[d] += static_cast<Index>((offset >> d) & 1u) - Grid<Dim>::kGhost;
-    return grid.node_id(c);
+    return nodes.find(c);
   };
-  auto is_active = [&](std::size_t n) { return node_active[n] != 0; };
-  cell_active_.assign(static_cast<std::size_t>(cell_count), 0);
-  for (Index id = 0; id < cell_count; ++id) {
-    const Cell c = unflat(id);
-    bool all = true;
+  auto is_active = [&](Index n) { return n >= 0 && node_active[static_cast<std::size_t>(n)]; };
+  active_cells_.clear();
+  std::vector<Cell> cell_of;
+  for (Index n = 0; n < nodes.size(); ++n) {
+    Cell c = nodes.ijk(n);
+    bool inside = true;
+    for (int d = 0; d < Dim; ++d) {
+      c[d] += Grid<Dim>::kGhost;
+      inside = inside && c[d] < cells[d];
+    }
+    bool all = inside;
     for (unsigned corner = 0; corner < (1u << Dim) && all; ++corner)
-      all = is_active(static_cast<std::size_t>(node(c, corner)));
-    cell_active_[static_cast<std::size_t>(id)] = all;
+      all = is_active(node(c, corner));
+    if (all) {
+      active_cells_.push_back(flat(c));
+      cell_of.push_back(c);
+    }
   }
-  auto active = [&](const Cell& c) {
+  // The position of cell c among the active cells, -1 if it is not one.
+  auto find_cell = [&](const Cell& c) -> Index {
     for (int d = 0; d < Dim; ++d)
       if (c[d] < 0 || c[d] >= cells[d])
-        return false;
-    return cell_active_[flat(c)] != 0;
+        return -1;
+    const Index id = flat(c);
+    const auto it = std::lower_bound(active_cells_.begin(), active_cells_.end(), id);
+    return it != active_cells_.end() && *it == id ? it - active_cells_.begin() : -1;
   };
   // A cell beyond a mirror face (a roller: a symmetry plane) stands for the mirror image of
   // the cell inside, not for empty space: the body does not end there. Counting it as empty
@@ -97,34 +101,29 @@ void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& no
     }
     return outside;
   };
-  cell_in_band_.assign(cell_active_.size(), 0);
+  cell_in_band_.assign(active_cells_.size(), 0);
   int neighbours = 1; // 3^Dim offsets in {-1, 0, 1}^Dim
   for (int d = 0; d < Dim; ++d)
     neighbours *= 3;
-  for (Index id = 0; id < cell_count; ++id) {
-    const Cell c = unflat(id);
-    if (!active(c))
-      continue;
+  for (std::size_t k = 0; k < active_cells_.size(); ++k) {
     bool band = false;
-    for (int k = 0; k < neighbours && !band; ++k) {
-      Cell n = c;
-      for (int d = 0, rest = k; d < Dim; ++d, rest /= 3)
+    for (int j = 0; j < neighbours && !band; ++j) {
+      Cell n = cell_of[k];
+      for (int d = 0, rest = j; d < Dim; ++d, rest /= 3)
         n[d] += rest % 3 - 1;
-      band = !active(n) && !beyond_mirror(n);
+      band = find_cell(n) < 0 && !beyond_mirror(n);
     }
-    cell_in_band_[static_cast<std::size_t>(id)] = band;
+    cell_in_band_[k] = band;
   }
 
   const double h_power = Dim == 3 ? grid.cell_size() : 1.0; // h^(Dim - 2)
-  for (Index id = 0; id < cell_count; ++id) {
-    const Cell c = unflat(id);
-    if (!active(c))
-      continue;
-    const bool band = cell_in_band_[static_cast<std::size_t>(id)];
+  for (std::size_t k = 0; k < active_cells_.size(); ++k) {
+    const Cell& c = cell_of[k];
     for (int normal = 0; normal < Dim; ++normal) {
       Cell ahead = c;
       ++ahead[normal];
-      if (!active(ahead) || !(band || cell_in_band_[flat(ahead)]))
+      const Index a = find_cell(ahead);
+      if (a < 0 || !(cell_in_band_[k] || cell_in_band_[static_cast<std::size_t>(a)]))
         continue;
       // Layers c, c + e_normal, c + 2 e_normal along the normal; the corners of the face along
       // the other axes, the lowest of them fastest.
@@ -149,12 +148,11 @@ void GhostPenalty<Dim>::build(const Grid<Dim>& grid, const std::vector<char>& no
   }
 }
 
-template <int Dim> void GhostPenalty<Dim>::weight_by_radius(const Grid<Dim>& grid) {
+template <int Dim> void GhostPenalty<Dim>::weight_by_radius(const ActiveNodes<Dim>& nodes) {
   for (Face& face : faces_) {
     double r = 0;
     for (int t = 0; t < kTangentialNodes; ++t)
-      r += grid.node_position(
-          grid.node_ijk(face.nodes[static_cast<std::size_t>(kTangentialNodes + t)]))[0];
+      r += nodes.position(face.nodes[static_cast<std::size_t>(kTangentialNodes + t)])[0];
     face.stiffness *= r / kTangentialNodes;
   }
 }

@@ -130,9 +130,7 @@ public:
   FaceReactions reactions() const override { return reactions_; }
   std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
   std::string linear_solver() const override { return linear_->name(); }
-  Index active_nodes() const override {
-    return static_cast<Index>(step_.map.active_nodes().size());
-  }
+  Index active_nodes() const override { return step_.map.node_count(); }
   Index unknowns() const override { return step_.dof_count; }
   double seconds_particle_update() const override { return seconds_particle_update_; }
   // The per-point trial state (the Newmark acceleration lives in the particles, which resize
@@ -176,7 +174,7 @@ public:
     step_.prepare(scene_, {lambda_end, ramp_end, ramp_committed_, dt, dynamic_, gravity_ramped_},
                   material_young_);
     if (f_bar_)
-      f_bar_step_.prepare(scene_.grid, scene_.particles);
+      f_bar_step_.prepare(scene_.grid, scene_.particles, step_.map.node_count());
     state_valid_ = false;
     ++step_count_;
     whole_ = {0, 0, scene_.particles.size()};
@@ -190,7 +188,7 @@ public:
   std::span<const Index> global_node_dofs() const override { return step_.node_dof; }
 
   std::vector<int> node_owners(std::span<const ParticleShare> shares) const override {
-    std::vector<int> owner(at(scene_.grid.node_count()), -1);
+    std::vector<int> owner(at(step_.map.node_count()), -1);
     for (const ParticleShare& share : shares)
       for (Index p = share.begin; p < share.end; ++p)
         step_.map.for_each_node_of(p, [&](Index n, double, const V&) {
@@ -368,8 +366,8 @@ private:
           f(std::span<const Index>(face.nodes));
     };
     tangent.build(
-        scene_.grid, map.overlap_count(), [&](Index n, int a) { return local_dof(map, n, a); },
-        cliques);
+        step_.map.nodes(), map.overlap_count(),
+        [&](Index n, int a) { return local_dof(map, n, a); }, cliques);
   }
 
   // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's nodes,
@@ -576,8 +574,8 @@ private:
     for_each_ghost_force(serial_map_, du,
                          [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
-    for (const Index n : step_.map.active_nodes()) {
-      const std::int32_t region = scene_.node_prescribed[at(n)];
+    for (Index n = 0; n < step_.map.node_count(); ++n) {
+      const std::int32_t region = step_.node_region[at(n)];
       if (region < 0)
         continue;
       for (int a = 0; a < Dim; ++a)
@@ -587,16 +585,15 @@ private:
     }
     for (auto& r : reactions_)
       r.setZero();
-    for (const Index n : step_.map.active_nodes())
+    for (Index n = 0; n < step_.map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
-        if (const int face = scene_.component_face[at(Dim * n + a)];
-            face >= 0 && !is_prescribed(n, a))
+        if (const int face = step_.reaction_face[at(n)][at(a)]; face >= 0 && !is_prescribed(n, a))
           reactions_[static_cast<std::size_t>(face)][a] +=
               internal[at(Dim * n + a)] - step_.full_external[at(Dim * n + a)];
   }
 
   bool is_prescribed(Index n, int a) const {
-    const std::int32_t region = scene_.node_prescribed[at(n)];
+    const std::int32_t region = step_.node_region[at(n)];
     return region >= 0 && scene_.spec.prescribed[at(region)].displacement[at(a)].has_value();
   }
 

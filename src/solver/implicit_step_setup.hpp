@@ -37,7 +37,11 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   };
 
   ParticleGridMap<Dim, Shape> map;
-  std::vector<double> node_mass;
+  std::vector<double> node_mass; ///< per active node (the map's node numbers)
+  /// Per node: the prescribed box that holds it (-1 if none), and per component the face that
+  /// receives its reaction (FaceConditions::reaction_faces).
+  std::vector<std::int32_t> node_region;
+  std::vector<std::array<std::int8_t, Dim>> reaction_face;
   std::vector<Index> node_dof;       ///< per (node, component) at Dim n + a: DOF, -1 for none
   std::vector<double> prescribed_du; ///< per (node, component): this step's increment
   Index dof_count = 0;
@@ -54,17 +58,23 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   void prepare(Scene<Dim>& scene, const Loading& l, const std::vector<double>& young) {
     const auto& P = scene.particles;
     map.update(scene.grid, P);
-    const auto nn = static_cast<std::size_t>(scene.grid.node_count());
+    const auto nn = at(map.node_count());
     node_mass.assign(nn, 0.0);
     double heaviest = 0;
-    for (const Index n : map.active_nodes()) {
+    for (Index n = 0; n < map.node_count(); ++n) {
       double m = 0;
       map.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
       node_mass[at(n)] = m;
       heaviest = std::max(heaviest, m);
     }
     if (!scene.spec.prescribed.empty())
-      locate_prescribed_nodes<Dim>(scene, l.ramp_committed);
+      place_prescribed_boxes<Dim>(scene, l.ramp_committed);
+    node_region.resize(nn);
+    reaction_face.resize(nn);
+    for (Index n = 0; n < map.node_count(); ++n) {
+      node_region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
+      reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
+    }
     number_unknowns(scene, l, heaviest);
     prepare_ghost_penalty(scene, heaviest, young);
     if (l.dynamic)
@@ -78,13 +88,13 @@ private:
   // One unknown per component of a node with mass that neither a face nor a prescribed box
   // holds; a prescribed component takes this step's share of its displacement.
   void number_unknowns(const Scene<Dim>& scene, const Loading& l, double heaviest) {
-    const auto nn = static_cast<std::size_t>(scene.grid.node_count());
+    const auto nn = at(map.node_count());
     node_dof.assign(Dim * nn, -1);
     prescribed_du.assign(Dim * nn, 0.0);
     dof_count = 0;
-    for (const Index n : map.active_nodes()) {
-      const std::int32_t region = scene.node_prescribed[at(n)];
-      const std::uint8_t mask = scene.constrained[at(n)];
+    for (Index n = 0; n < map.node_count(); ++n) {
+      const std::int32_t region = node_region[at(n)];
+      const std::uint8_t mask = scene.face_conditions.held(map.nodes().ijk(n));
       for (int a = 0; a < Dim; ++a) {
         // A prescribed component wins over a face condition on the same node.
         if (region >= 0) {
@@ -107,10 +117,10 @@ private:
     const double gamma = scene.spec.solver.ghost_penalty;
     if (gamma <= 0.0)
       return;
-    const auto nn = static_cast<std::size_t>(scene.grid.node_count());
+    const auto nn = at(map.node_count());
     node_active_.assign(nn, 0);
     node_modulus_.assign(nn, 0.0);
-    for (const Index n : map.active_nodes()) {
+    for (Index n = 0; n < map.node_count(); ++n) {
       node_active_[at(n)] = node_mass[at(n)] >= kImplicitTinyNodeMassFraction * heaviest;
       map.for_each_particle_of(n, [&](Index p, double, const V&) {
         const double E = young[at(scene.particles.material[at(p)])];
@@ -122,9 +132,9 @@ private:
       mirror_faces[at(f)] = scene.spec.boundaries[f] == FaceCondition::Roller;
     if constexpr (Axisymmetric) // the axis is a symmetry line whatever x_min's condition
       mirror_faces[0] = mirror_faces[0] || scene.grid.origin()[0] == 0.0;
-    ghost.build(scene.grid, node_active_, node_modulus_, gamma, mirror_faces);
+    ghost.build(map.nodes(), node_active_, node_modulus_, gamma, mirror_faces);
     if constexpr (Axisymmetric)
-      ghost.weight_by_radius(scene.grid);
+      ghost.weight_by_radius(map.nodes());
   }
 
   // Lumped mass and the mass-weighted projections of the particles' velocity and acceleration,
@@ -133,7 +143,7 @@ private:
     dof_mass.assign(at(dof_count), 0.0);
     grid_v.assign(at(dof_count), 0.0);
     grid_a.assign(at(dof_count), 0.0);
-    for (const Index n : map.active_nodes()) {
+    for (Index n = 0; n < map.node_count(); ++n) {
       V mv = V::Zero(), ma = V::Zero();
       map.for_each_particle_of(n, [&](Index p, double w, const V&) {
         mv += w * P.mass[at(p)] * P.v[at(p)];
@@ -156,7 +166,7 @@ private:
   void gather_loads(const Scene<Dim>& scene, const Loading& l) {
     const auto& P = scene.particles;
     external.setZero(static_cast<Eigen::Index>(dof_count));
-    full_external.assign(Dim * static_cast<std::size_t>(scene.grid.node_count()), 0.0);
+    full_external.assign(Dim * at(map.node_count()), 0.0);
     const V g = head<Dim>(scene.spec.gravity);
     force_scale = 0;
     for (Index p = 0; p < P.size(); ++p) {
@@ -168,7 +178,7 @@ private:
     for (const SurfaceLoad<Dim>& load : scene.surface_loads) {
       const V f = (load.constant ? 1.0 : l.lambda_end) * load.force;
       force_scale = std::max(force_scale, f.template lpNorm<Eigen::Infinity>());
-      for_each_surface_load_node<Dim>(scene.grid, P, load, map.stencil(load.particle).start,
+      for_each_surface_load_node<Dim>(map.nodes(), P, load, map.stencil(load.particle).start,
                                       Shape::kWidth,
                                       [&](Index n, double w) { add_external(n, w * f); });
     }

@@ -57,14 +57,13 @@ template <int Dim> std::optional<StateViolation> find_particle_violation(const P
 }
 
 template <int Dim>
-std::optional<StateViolation>
-find_node_violation(const Grid<Dim>& grid, std::span<const Index> nodes,
-                    std::span<const Vec<Dim>> field, const char* field_name) {
-  for (const Index n : nodes)
+std::optional<StateViolation> find_node_violation(const ActiveNodes<Dim>& nodes,
+                                                  std::span<const Vec<Dim>> field,
+                                                  const char* field_name) {
+  for (Index n = 0; n < nodes.size(); ++n)
     if (const auto bad = non_finite_component(field[static_cast<std::size_t>(n)]))
-      return StateViolation{
-          field_name, true,           n, padded<Dim>(grid.node_position(grid.node_ijk(n))), Dim,
-          *bad,       "is not finite"};
+      return StateViolation{field_name, true, nodes.lattice_id(n), padded<Dim>(nodes.position(n)),
+                            Dim,        *bad, "is not finite"};
   return std::nullopt;
 }
 
@@ -89,7 +88,7 @@ std::optional<StateViolation> find_courant_violation(const Scene<Dim>& scene, do
 #define TALUS_INSTANTIATE(Dim)                                                                     \
   template std::optional<StateViolation> find_particle_violation<Dim>(const Particles<Dim>&);      \
   template std::optional<StateViolation> find_node_violation<Dim>(                                 \
-      const Grid<Dim>&, std::span<const Index>, std::span<const Vec<Dim>>, const char*);           \
+      const ActiveNodes<Dim>&, std::span<const Vec<Dim>>, const char*);                            \
   template std::optional<StateViolation> find_courant_violation<Dim>(const Scene<Dim>&, double);
 TALUS_INSTANTIATE(2)
 TALUS_INSTANTIATE(3)

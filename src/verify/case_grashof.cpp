@@ -125,8 +125,9 @@ MidSpan mid_span_profiles(const ResultsReader& results) {
     m.smoothed.shear.push_back(at(smoothed, p, 6, 1));
     m.smoothed.bending.push_back(at(smoothed, p, 6, 0));
   }
-  // Grid nodes on the line x = L/2 whose position lies in the deflected section.
-  std::istringstream origin_text(results.metadata_string("grid_origin"));
+  // Grid nodes on the line x = L/2 whose position lies in the deflected section (the grid/
+  // group covers the box of nodes the beam reaches, from its own origin).
+  std::istringstream origin_text(results.frame_attribute(last, "grid", "origin"));
   double ox = 0, oy = 0;
   origin_text >> ox >> oy;
   const double h = std::stod(results.metadata_string("cell_size"));

@@ -75,7 +75,7 @@ TEST(Axisymmetric, TheAxisHoldsTheRadialComponentOnly) {
   Index on_axis = 0;
   for (Index n = 0; n < g.node_count(); ++n) {
     const double r = g.node_position(g.node_ijk(n))[0];
-    const std::uint8_t mask = scene.constrained[static_cast<std::size_t>(n)];
+    const std::uint8_t mask = scene.face_conditions.held(g.node_ijk(n));
     // The case has no face conditions: the axis alone holds r, and nothing holds z.
     EXPECT_EQ(mask, r <= 0.0 ? 1u : 0u) << "node " << n << " at r = " << r;
     on_axis += r == 0.0;
@@ -83,8 +83,8 @@ TEST(Axisymmetric, TheAxisHoldsTheRadialComponentOnly) {
   EXPECT_GT(on_axis, 0);
   // Plane strain leaves the same nodes free.
   const Scene<2> plane = cylinder({"geometry=plane_strain"});
-  for (const std::uint8_t mask : plane.constrained)
-    EXPECT_EQ(mask, 0u);
+  for (Index n = 0; n < g.node_count(); ++n)
+    EXPECT_EQ(plane.face_conditions.held(g.node_ijk(n)), 0u);
 }
 
 // A split across r puts the children at r -+ s: each takes the ring of its half, so the

@@ -113,11 +113,16 @@ TEST_F(CliInputErrors, AbsurdSizesAreRefusedByTheMemoryEstimate) {
   const std::string full_body =
       edited("max: [0.4, 0.4]", "max: [62.5, 62.5]", edited("min: [0.1, 0.1]", "min: [0, 0]"));
   expect_refused({
-      {"1000 m grid of 1e-9 m cells",
-       edited("extent: [1, 1]\n  cell_size: 0.05", "extent: [1000, 1000]\n  cell_size: 1.0e-9"),
+      {"1 m grid of 1e-8 m cells",
+       edited("extent: [1, 1]\n  cell_size: 0.05", "extent: [1, 1]\n  cell_size: 1.0e-8"),
        {},
        {"case.yaml:6:14: key 'grid.cell_size': the memory estimate of the case is", "TB",
         "MemTotal of /proc/meminfo"}},
+      {"1000 m grid of 1e-9 m cells: 1e24 nodes, more than node ids can number",
+       edited("extent: [1, 1]\n  cell_size: 0.05", "extent: [1000, 1000]\n  cell_size: 1.0e-9"),
+       {},
+       {"case.yaml:6:14: key 'grid.cell_size': the grid has 1e+24 nodes (ghost layers included), "
+        "more than Talus can number (4e+18)"}},
       {"4 m grid of 1e-7 m cells",
        edited("extent: [1, 1]\n  cell_size: 0.05", "extent: [4, 4]\n  cell_size: 1.0e-7"),
        {},
@@ -125,7 +130,7 @@ TEST_F(CliInputErrors, AbsurdSizesAreRefusedByTheMemoryEstimate) {
       {"1e15 cells per axis (no integer wrap-around)",
        edited("extent: [1, 1]\n  cell_size: 0.05", "extent: [1.0e15, 1.0e15]\n  cell_size: 1"),
        {},
-       {"case.yaml:6:14: key 'grid.cell_size': the memory estimate", "1e+15 x 1e+15 cells"}},
+       {"case.yaml:6:14: key 'grid.cell_size': the grid has 1e+30 nodes"}},
       {"a body of 1e10 points",
        edited("particles_per_cell: 2", "particles_per_cell: 16", full_body),
        {"grid.extent=[62.5, 62.5]", "grid.cell_size=0.01"},

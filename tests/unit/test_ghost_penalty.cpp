@@ -4,14 +4,26 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 using Ghost2 = talus::GhostPenalty<2>;
 using Ghost3 = talus::GhostPenalty<3>;
+using talus::ActiveNodes;
 using talus::Grid;
 using talus::Index;
 
 namespace {
+
+// Every node of the grid as the step's active nodes: node numbers equal lattice ids.
+template <int Dim> ActiveNodes<Dim> every_node(const Grid<Dim>& grid) {
+  std::vector<Index> ids(static_cast<std::size_t>(grid.node_count()));
+  for (std::size_t n = 0; n < ids.size(); ++n)
+    ids[n] = static_cast<Index>(n);
+  ActiveNodes<Dim> nodes;
+  nodes.assign(grid, std::move(ids));
+  return nodes;
+}
 
 // Values of the field f at the six face nodes: normal coordinate -1, 0, 1 (layers), tangential
 // 0, 1, in face_matrix() order (2 * layer + t).
@@ -97,7 +109,7 @@ TEST(GhostPenalty, StabilisesOnlyFacesTouchingTheBoundaryBand) {
       modulus[n] = 2.0;
     }
   Ghost2 ghost;
-  ghost.build(grid, active, modulus, 0.5);
+  ghost.build(every_node(grid), active, modulus, 0.5);
   // Active cells: lower-left node 1..6 in each direction, 6 x 6. Faces between two active
   // cells: 5 x 6 per direction, 60. The band is the outer ring (an inactive cell among the
   // eight neighbours); a face is skipped only between two interior cells (2..5): 3 x 4 per
@@ -108,7 +120,28 @@ TEST(GhostPenalty, StabilisesOnlyFacesTouchingTheBoundaryBand) {
     for (const Index n : face.nodes)
       EXPECT_TRUE(active[static_cast<std::size_t>(n)]);
   }
-  ghost.build(grid, active, modulus, 0.0);
+  // The same faces when only the nodes the material reaches (and a ring around them) are
+  // active and numbered compactly: the selection does not depend on storage over the grid.
+  const std::vector<Ghost2::Face> full = ghost.faces();
+  std::vector<Index> ids;
+  for (Index j = 0; j <= 8; ++j)
+    for (Index i = 0; i <= 8; ++i)
+      ids.push_back(grid.node_id({i, j}));
+  std::sort(ids.begin(), ids.end());
+  std::vector<char> some_active;
+  std::vector<double> some_modulus;
+  for (const Index id : ids) {
+    some_active.push_back(active[static_cast<std::size_t>(id)]);
+    some_modulus.push_back(modulus[static_cast<std::size_t>(id)]);
+  }
+  ActiveNodes<2> some;
+  some.assign(grid, ids);
+  ghost.build(some, some_active, some_modulus, 0.5);
+  ASSERT_EQ(ghost.faces().size(), full.size());
+  for (std::size_t f = 0; f < full.size(); ++f)
+    for (std::size_t k = 0; k < full[f].nodes.size(); ++k)
+      EXPECT_EQ(some.lattice_id(ghost.faces()[f].nodes[k]), full[f].nodes[k]);
+  ghost.build(every_node(grid), active, modulus, 0.0);
   EXPECT_TRUE(ghost.faces().empty());
 }
 
@@ -125,7 +158,7 @@ TEST(GhostPenalty, StabilisesOnlyFacesTouchingTheBoundaryBand3d) {
         modulus[n] = 2.0;
       }
   Ghost3 ghost;
-  ghost.build(grid, active, modulus, 0.5);
+  ghost.build(every_node(grid), active, modulus, 0.5);
   // 6^3 active cells; faces between two of them 5 x 6 x 6 per direction, 540; between two
   // interior cells (2..5, no inactive cell among the 26 neighbours) 3 x 4 x 4 per direction,
   // 144: 396 stabilised, each with stiffness gamma E h.
@@ -164,9 +197,9 @@ TEST(GhostPenalty, ASlabBetweenMirrorFacesHasTheBandOfItsSection) {
   // With rollers on both z faces the band is the 2D one, the outer ring of the 6 x 6 section,
   // in both layers: per layer the 2D test's 36 x- and y-faces, plus the z-faces (one per
   // column of two cells) in the ring, 6^2 - 4^2 = 20: 2 x 36 + 20 = 92.
-  ghost.build(grid, active, modulus, 0.5, {false, false, false, false, true, true});
+  ghost.build(every_node(grid), active, modulus, 0.5, {false, false, false, false, true, true});
   EXPECT_EQ(ghost.faces().size(), 92u);
   // Taken for free faces, the z faces put every cell into the band: 2 x 60 + 36 = 156.
-  ghost.build(grid, active, modulus, 0.5);
+  ghost.build(every_node(grid), active, modulus, 0.5);
   EXPECT_EQ(ghost.faces().size(), 156u);
 }

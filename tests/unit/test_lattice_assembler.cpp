@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+using talus::ActiveNodes;
 using talus::Grid;
 using talus::Index;
 using talus::LatticeAssembler;
@@ -26,10 +27,13 @@ template <int Dim> struct Numbering {
   Index operator()(Index n, int a) const { return dof[static_cast<std::size_t>(Dim * n + a)]; }
 };
 
+/// The cliques are in node numbers of `nodes`: the nodes some clique reaches, numbered in
+/// lattice order as a step's active nodes are.
 template <int Dim> struct Problem {
   Grid<Dim> grid;
   std::vector<std::vector<Index>> cliques;
   Numbering<Dim> numbering;
+  ActiveNodes<Dim> nodes;
 };
 
 /// Cliques as an MPM step has them: the W^Dim stencils of points (W = 2 or 3), the 2 x 3^(Dim-1)
@@ -37,7 +41,7 @@ template <int Dim> struct Problem {
 template <int Dim> Problem<Dim> random_problem(std::mt19937& rng) {
   std::array<Index, Dim> cells;
   cells.fill(Dim == 2 ? 9 : 5);
-  Problem<Dim> p{Grid<Dim>(talus::Vec<Dim>::Zero(), 1.0, cells), {}, {}};
+  Problem<Dim> p{Grid<Dim>(talus::Vec<Dim>::Zero(), 1.0, cells), {}, {}, {}};
   auto box = [&](std::array<Index, Dim> lo, std::array<Index, Dim> width) {
     std::vector<Index> nodes;
     std::array<Index, Dim> ijk{};
@@ -72,9 +76,15 @@ template <int Dim> Problem<Dim> random_problem(std::mt19937& rng) {
   std::set<Index> used;
   for (const auto& c : p.cliques)
     used.insert(c.begin(), c.end());
-  std::vector<Index> order(used.begin(), used.end());
+  p.nodes.assign(p.grid, std::vector<Index>(used.begin(), used.end()));
+  for (auto& c : p.cliques)
+    for (Index& n : c)
+      n = p.nodes.find_lattice_id(n);
+  std::vector<Index> order(static_cast<std::size_t>(p.nodes.size()));
+  for (std::size_t n = 0; n < order.size(); ++n)
+    order[n] = static_cast<Index>(n);
   std::shuffle(order.begin(), order.end(), rng);
-  p.numbering.dof.assign(static_cast<std::size_t>(Dim * p.grid.node_count()), -1);
+  p.numbering.dof.assign(static_cast<std::size_t>(Dim * p.nodes.size()), -1);
   for (const Index n : order)
     for (int a = 0; a < Dim; ++a)
       if (rng() % 7 != 0) // about one component in seven held
@@ -83,7 +93,7 @@ template <int Dim> Problem<Dim> random_problem(std::mt19937& rng) {
 }
 
 template <int Dim> void build(LatticeAssembler<Dim>& assembler, const Problem<Dim>& p) {
-  assembler.build(p.grid, p.numbering.size, p.numbering, [&](auto&& f) {
+  assembler.build(p.nodes, p.numbering.size, p.numbering, [&](auto&& f) {
     for (const auto& c : p.cliques)
       f(std::span<const Index>(c));
   });
@@ -164,6 +174,11 @@ TEST(LatticeAssembler, EqualsDenseSumIn3D) {
 
 TEST(LatticeAssembler, RefusesBlocksOutsideTheStructure) {
   const Grid<2> grid(talus::Vec<2>::Zero(), 1.0, {6, 6});
+  std::vector<Index> every(static_cast<std::size_t>(grid.node_count()));
+  for (std::size_t n = 0; n < every.size(); ++n)
+    every[n] = static_cast<Index>(n);
+  ActiveNodes<2> nodes;
+  nodes.assign(grid, every);
   const auto id = [&](Index i, Index j) { return grid.node_id({i, j}); };
   Numbering<2> numbering;
   numbering.dof.assign(static_cast<std::size_t>(2 * grid.node_count()), -1);
@@ -174,7 +189,7 @@ TEST(LatticeAssembler, RefusesBlocksOutsideTheStructure) {
   const std::vector<Index> left = {id(0, 0), id(1, 0), id(0, 1), id(1, 1)};
   const std::vector<Index> right = {id(2, 0), id(3, 0), id(2, 1), id(3, 1)};
   LatticeAssembler<2> assembler;
-  assembler.build(grid, numbering.size, numbering, [&](auto&& f) {
+  assembler.build(nodes, numbering.size, numbering, [&](auto&& f) {
     f(std::span<const Index>(left));
     f(std::span<const Index>(right));
   });
@@ -190,7 +205,7 @@ TEST(LatticeAssembler, RefusesBlocksOutsideTheStructure) {
   Numbering<2> scattered = numbering;
   scattered.dof[static_cast<std::size_t>(2 * id(0, 0) + 1)] = numbering.size;
   scattered.size = numbering.size + 1;
-  EXPECT_THROW(assembler.build(grid, scattered.size, scattered,
+  EXPECT_THROW(assembler.build(nodes, scattered.size, scattered,
                                [&](auto&& f) { f(std::span<const Index>(left)); }),
                std::invalid_argument);
 }

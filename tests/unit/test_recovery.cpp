@@ -149,7 +149,7 @@ TEST_P(RecoveryForShape, LinearFieldIsExactInsideAUniformLattice) {
   // Nodes 2..8 are at least one cell plus a GIMP half-width inside the filled cells 1..9.
   for (Index j = 2; j <= 8; ++j)
     for (Index i = 2; i <= 8; ++i) {
-      const auto n = static_cast<std::size_t>(grid.node_id({i, j}));
+      const std::size_t n = r.box_index({i, j});
       EXPECT_NEAR(full(r.node_stress[n])(0, 0), field(grid.node_position({i, j})), kRoundOff)
           << "node " << i << ", " << j;
     }

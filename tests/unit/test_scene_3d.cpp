@@ -128,9 +128,8 @@ TEST(Scene3d, BodiesFillTheirVolume) {
 
 TEST(Scene3d, FacesConstrainTheirNormalOrEveryComponent) {
   const Scene<3> scene = build_scene<3>(read_case_text(kCase3d, "case.yaml"));
-  const Grid<3>& g = scene.grid;
   const auto mask = [&](Index i, Index j, Index k) {
-    return scene.constrained[static_cast<std::size_t>(g.node_id({i, j, k}))];
+    return scene.face_conditions.held({i, j, k});
   };
   EXPECT_EQ(mask(0, 3, 4), 0b111);  // x_min fixed: all three components
   EXPECT_EQ(mask(5, 3, 10), 0b100); // z_max roller: the normal, z
@@ -139,7 +138,7 @@ TEST(Scene3d, FacesConstrainTheirNormalOrEveryComponent) {
   EXPECT_EQ(mask(20, 3, 0), 0);     // x_max and z_min are free
   // The reaction of the fixed face takes every component it holds.
   for (int d = 0; d < 3; ++d)
-    EXPECT_EQ(scene.component_face[3 * static_cast<std::size_t>(g.node_id({0, 3, 4})) + d], kXMin);
+    EXPECT_EQ(scene.face_conditions.reaction_faces({0, 3, 4})[static_cast<std::size_t>(d)], kXMin);
 }
 
 // A traction on the box's front face (z_max) loads the points of its last layer with their

@@ -82,19 +82,19 @@ TEST(StateGuard, EveryParticleFieldIsGuarded) {
 
 TEST(StateGuard, GridNodesAreNamedWithTheirPosition) {
   const talus::Grid<2> grid(Vec2(0, 0), 0.5, {4, 4});
-  std::vector<Vec2> velocity(static_cast<std::size_t>(grid.node_count()), Vec2(1, 1));
+  // Three active nodes, the field one entry per active node.
   const Index bad = grid.node_id({2, 3});
-  velocity[static_cast<std::size_t>(bad)].x() = kNaN;
-  const std::vector<Index> active = {grid.node_id({0, 0}), bad, grid.node_id({4, 4})};
-  const auto v = talus::find_node_violation<2>(grid, active, velocity, "grid velocity");
+  talus::ActiveNodes<2> nodes;
+  nodes.assign(grid, {grid.node_id({0, 0}), bad, grid.node_id({4, 4})});
+  std::vector<Vec2> velocity(3, Vec2(1, 1));
+  velocity[1].x() = kNaN;
+  const auto v = talus::find_node_violation<2>(nodes, velocity, "grid velocity");
   ASSERT_TRUE(v.has_value());
   EXPECT_TRUE(v->on_node);
-  EXPECT_EQ(v->index, bad);
+  EXPECT_EQ(v->index, bad); // named by its lattice id, not its place among the active nodes
   EXPECT_EQ(v->position, talus::Vec3(1.0, 1.5, 0.0));
   EXPECT_NE(v->describe().find("grid velocity = nan is not finite at grid node"), std::string::npos)
       << v->describe();
-  // A node outside the active list is never looked at.
-  EXPECT_FALSE(talus::find_node_violation<2>(grid, std::vector<Index>{grid.node_id({0, 0})},
-                                             velocity, "grid velocity")
-                   .has_value());
+  velocity[1].x() = 1.0;
+  EXPECT_FALSE(talus::find_node_violation<2>(nodes, velocity, "grid velocity").has_value());
 }

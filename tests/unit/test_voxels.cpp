@@ -183,7 +183,8 @@ TEST(Voxels, XdmfReadersSeeVoxelCellsAndGridFields) {
   const fs::path script = fs::path(TALUS_TESTS_DIR) / "python" / "check_post.py";
   EXPECT_EQ(run("/usr/bin/python3 '" + script.string() + "' '" + dir.string() + "'"), 0);
 
-  // The C++ reader sees the same layout: 41 x 41 physical nodes (1 m / 0.025 m cells + 1).
+  // The C++ reader sees the same layout: the grid/ group covers the box of physical nodes the
+  // points' stencils reach, 40 x 40 of the grid's 41 x 41 (no stencil reaches x = 0 or y = 0).
   const ResultsReader results(dir / "run.h5");
   const Index last = results.frame_count() - 1;
   Index n = 0, rows = 0, cols = 0;
@@ -194,7 +195,9 @@ TEST(Voxels, XdmfReadersSeeVoxelCellsAndGridFields) {
   EXPECT_EQ(rows, 4 * n);
   EXPECT_EQ(cols, 2);
   results.read(last, "grid/stress", &rows, &cols);
-  EXPECT_EQ(rows, 41 * 41);
+  EXPECT_EQ(rows, 40 * 40);
+  EXPECT_EQ(results.frame_attribute(last, "grid", "origin"), "0.025 0.025");
+  EXPECT_EQ(results.frame_attribute(last, "grid", "nodes_x"), "40");
   EXPECT_EQ(cols, 6);
   results.read(last, "stress_smoothed", &rows, &cols);
   EXPECT_EQ(rows, n);

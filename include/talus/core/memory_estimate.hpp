@@ -1,11 +1,11 @@
 #pragma once
 // What a case will allocate, estimated from its CaseSpec alone before anything is allocated:
-// the grid's per-node arrays, the material points each body generates (area / spacing^2, refine
-// boxes included) with the per-point arrays of the particles, the material state, the
-// particle-grid map and the solver, and for the implicit analyses the sparse matrix and its
-// factor. The case reader refuses a case whose estimate exceeds the machine's memory, at the key
-// that drives it (docs/case-format.md, "Memory"). Counts are doubles: a grid of 1e15 cells per
-// axis must not wrap around in an integer.
+// the per-node arrays of the nodes the material reaches, the material points each body generates
+// (area / spacing^2, refine boxes included) with the per-point arrays of the particles, the
+// material state, the particle-grid map and the solver, and for the implicit analyses the sparse
+// matrix and its factor. The case reader refuses a case whose estimate exceeds the machine's
+// memory, at the key that drives it (docs/case-format.md, "Memory"). Counts are doubles: a grid of
+// 1e15 cells per axis must not wrap around in an integer.
 #include "talus/io/case_spec.hpp"
 
 #include <string>
@@ -19,7 +19,7 @@ struct MemoryEstimate {
   double active_nodes = 0;         ///< nodes touched by the points (implicit unknowns / 2)
   std::vector<double> body_points; ///< initial material points of each body
   double points = 0;               ///< all bodies
-  double grid_bytes = 0;           ///< per-node arrays (scene, map, solver)
+  double grid_bytes = 0;           ///< per-active-node arrays (map, solver)
   double point_bytes = 0;          ///< per-point arrays (particles, materials, map, solver)
   double matrix_bytes = 0;         ///< implicit analyses: tangent matrix, assembly and factor
   double total_bytes = 0;

@@ -4,6 +4,7 @@
 // probes. Building it is the last place a case can be rejected as bad input (exit 2).
 #include "talus/core/particles.hpp"
 #include "talus/grid/grid.hpp"
+#include "talus/grid/node_conditions.hpp"
 #include "talus/grid/surface_load.hpp"
 #include "talus/io/case_spec.hpp"
 #include "talus/material/material.hpp"
@@ -25,16 +26,11 @@ template <int Dim> struct Scene {
   Particles<Dim> particles;
   std::vector<std::unique_ptr<Material>> materials;
   std::vector<std::vector<Index>> particles_of_material; ///< batches for the material update
-  /// Per node, bit d set: velocity component d is held at zero (fixed or roller face).
-  std::vector<std::uint8_t> constrained;
-  /// Per node and velocity component (index Dim n + d), the face whose condition holds that
-  /// component (-1 if none): the face that receives its reaction. At a corner each component
-  /// goes to the face that constrains it, preferring the face normal to it.
-  std::vector<std::int8_t> component_face;
-  /// Per node, the index of the PrescribedSpec whose box holds it (-1 if none). The boxes follow
-  /// their prescribed displacement in whole cells (a rigid footing carries its box down with
-  /// it), so the implicit solver relocates them every step (locate_prescribed_nodes).
-  std::vector<std::int32_t> node_prescribed;
+  /// The grid faces' conditions on a node (held components, reaction faces).
+  FaceConditions<Dim> face_conditions;
+  /// The prescribed-displacement boxes where they stand; the implicit solver moves them with
+  /// the prescribed displacement every step (place_prescribed_boxes).
+  PrescribedBoxes<Dim> prescribed_boxes;
   std::vector<SurfaceLoad<Dim>> surface_loads; ///< the tractions, per loaded point
   std::vector<Index> probe_particles;          ///< one particle per ProbeSpec, same order
   std::vector<std::string> probe_names;
@@ -44,9 +40,9 @@ template <int Dim> struct Scene {
 /// that yields no particle at the chosen resolution. Dim is the case's dimension.
 template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec);
 
-/// Fills scene.node_prescribed with the nodes inside each prescribed box shifted by the
-/// fraction `ramp` of its prescribed displacement (given components only), rounded to whole
-/// cells.
-template <int Dim> void locate_prescribed_nodes(Scene<Dim>& scene, double ramp);
+/// Places scene.prescribed_boxes at the fraction `ramp` of their prescribed displacement.
+template <int Dim> void place_prescribed_boxes(Scene<Dim>& scene, double ramp) {
+  scene.prescribed_boxes.place(scene.grid, scene.spec.prescribed, ramp);
+}
 
 } // namespace talus

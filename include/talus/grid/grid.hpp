@@ -9,6 +9,11 @@
 
 namespace talus {
 
+/// The most nodes a grid may have (ghost layers included): node ids, and the sums of an id and
+/// a stencil offset, must stay within 64-bit integers (2^62 = 4.6e18). The case reader refuses
+/// larger grids; nothing is allocated per node of the grid, so this is the only size limit.
+inline constexpr double kMaxGridNodes = 4.0e18;
+
 template <int Dim> class Grid {
 public:
   Grid() = default;

@@ -1,15 +1,24 @@
 #pragma once
 // The particle <-> grid connectivity for one step: each particle's shape-function stencil,
-// particles binned by the first node of their stencil, and the list of active nodes. Both
-// transfer directions are loops over this map:
+// particles binned by the first node of their stencil, and the active nodes (ActiveNodes: the
+// nodes some stencil reaches, numbered in lattice order; every per-node array of the step is
+// indexed by that number). Both transfer directions are loops over this map:
 //   for_each_node_of(p, f)     particle -> its W^Dim nodes    (G2P, velocity gradients)
 //   for_each_particle_of(n, f) node -> the particles it sees  (P2G as a deterministic gather)
+// Nothing here is sized by the grid: bins exist for the stencil starts that hold points, and
+// the links between bins and nodes are kept per stencil row (W consecutive nodes along x, which
+// are consecutive in the node numbering too): W^(Dim-1) numbers per bin and per node.
 #include "talus/core/errors.hpp"
 #include "talus/core/particles.hpp"
+#include "talus/core/radix_sort.hpp"
+#include "talus/grid/active_nodes.hpp"
 #include "talus/grid/grid.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <fmt/format.h>
+#include <numeric>
 #include <vector>
 
 namespace talus {
@@ -36,6 +45,7 @@ public:
     grid_ = &grid;
     const Index np = particles.size();
     stencils_.resize(static_cast<std::size_t>(np));
+    start_id_.resize(static_cast<std::size_t>(np));
     const double h = grid.cell_size();
     for (Index p = 0; p < np; ++p) {
       const auto s = static_cast<std::size_t>(p);
@@ -50,85 +60,78 @@ public:
         st.start[d] = Shape::start(xr, h, lp);
         Shape::eval(xr, h, lp, st.start[d], st.N[d].data(), st.dN[d].data());
       }
+      start_id_[s] = grid.node_id(st.start);
     }
-    // Counting sort of particles by the flat id of their stencil's first node.
-    const Index nn = grid.node_count();
-    bin_offset_.assign(static_cast<std::size_t>(nn + 1), 0);
-    for (const Stencil& st : stencils_)
-      ++bin_offset_[static_cast<std::size_t>(grid.node_id(st.start) + 1)];
-    for (Index n = 0; n < nn; ++n)
-      bin_offset_[static_cast<std::size_t>(n + 1)] += bin_offset_[static_cast<std::size_t>(n)];
-    bin_particles_.resize(static_cast<std::size_t>(np));
-    std::vector<Index> fill(bin_offset_.begin(), bin_offset_.end() - 1);
-    for (Index p = 0; p < np; ++p) {
-      const Index b = grid.node_id(stencils_[static_cast<std::size_t>(p)].start);
-      bin_particles_[static_cast<std::size_t>(fill[static_cast<std::size_t>(b)]++)] = p;
-    }
-    // Active nodes: every node in the stencil of a non-empty bin, in ascending id order.
-    active_flag_.assign(static_cast<std::size_t>(nn), 0);
-    for (Index b = 0; b < nn; ++b) {
-      if (bin_offset_[static_cast<std::size_t>(b + 1)] == bin_offset_[static_cast<std::size_t>(b)])
-        continue;
-      const auto start = grid.node_ijk(b);
-      for (int k = 0; k < kStencilSize; ++k)
-        active_flag_[static_cast<std::size_t>(grid.node_id(offset(start, k)))] = 1;
-    }
-    active_.clear();
-    for (Index n = 0; n < nn; ++n)
-      if (active_flag_[static_cast<std::size_t>(n)])
-        active_.push_back(n);
+    bin_points(np);
+    activate_nodes();
   }
 
-  const std::vector<Index>& active_nodes() const { return active_; }
+  /// The nodes that carry state this step; node numbers index every per-node array.
+  const ActiveNodes<Dim>& nodes() const { return nodes_; }
+  Index node_count() const { return nodes_.size(); }
   const Stencil& stencil(Index p) const { return stencils_[static_cast<std::size_t>(p)]; }
 
-  /// f(node_id, weight, gradient) for every node of particle p's stencil.
+  /// f(node, weight, gradient) for every node of particle p's stencil.
   template <class F> void for_each_node_of(Index p, F&& f) const {
     const Stencil& st = stencils_[static_cast<std::size_t>(p)];
+    const std::int32_t b = bin_of_point_[static_cast<std::size_t>(p)];
     for (int k = 0; k < kStencilSize; ++k) {
       const auto local = digits(k);
       double w;
       Vec<Dim> grad;
       weight(st, local, w, grad);
-      f(grid_->node_id(offset(st.start, k)), w, grad);
+      f(Index{bin_rows_[row_link(b, k / W)]} + k % W, w, grad);
     }
   }
 
-  /// The grid nodes of particle p's stencil, in the order for_each_node_of visits them.
+  /// The nodes of particle p's stencil, in the order for_each_node_of visits them.
   std::array<Index, kStencilSize> stencil_nodes(Index p) const {
-    const Stencil& st = stencils_[static_cast<std::size_t>(p)];
+    const std::int32_t b = bin_of_point_[static_cast<std::size_t>(p)];
     std::array<Index, kStencilSize> nodes{};
     for (int k = 0; k < kStencilSize; ++k)
-      nodes[static_cast<std::size_t>(k)] = grid_->node_id(offset(st.start, k));
+      nodes[static_cast<std::size_t>(k)] = Index{bin_rows_[row_link(b, k / W)]} + k % W;
     return nodes;
   }
 
   /// f(particle, weight, gradient) for every particle whose stencil contains `node`, in a
   /// fixed order (bin by bin, particles in ascending index).
   template <class F> void for_each_particle_of(Index node, F&& f) const {
-    const auto ijk = grid_->node_ijk(node);
-    for (int k = 0; k < kStencilSize; ++k) {
-      const auto local = digits(k);
-      std::array<Index, Dim> start;
+    const auto ijk = nodes_.ijk(node);
+    const Index id = nodes_.lattice_id(node);
+    for (int r = 0; r < kRows; ++r) {
+      // Stencil positions k = a0 + W r: the bins whose first node is id - row_shift_[r] - a0,
+      // found from the last bin at or before id - row_shift_[r] going down.
+      auto local = digits(W * r);
       bool valid = true;
-      for (int d = 0; d < Dim; ++d) {
-        start[d] = ijk[d] - local[d];
-        valid = valid && start[d] >= -Grid<Dim>::kGhost;
-      }
+      for (int d = 1; d < Dim; ++d)
+        valid = valid && ijk[d] - local[d] >= -Grid<Dim>::kGhost;
       if (!valid)
         continue;
-      const auto b = static_cast<std::size_t>(grid_->node_id(start));
-      for (Index q = bin_offset_[b]; q < bin_offset_[b + 1]; ++q) {
-        const Index p = bin_particles_[static_cast<std::size_t>(q)];
-        double w;
-        Vec<Dim> grad;
-        weight(stencils_[static_cast<std::size_t>(p)], local, w, grad);
-        f(p, w, grad);
+      const Index base = id - row_shift_[static_cast<std::size_t>(r)];
+      for (std::int32_t b = node_rows_[row_link(node, r)];
+           b >= 0 && bin_start_id_[static_cast<std::size_t>(b)] > base - W; --b) {
+        local[0] = static_cast<int>(base - bin_start_id_[static_cast<std::size_t>(b)]);
+        if (ijk[0] - local[0] < -Grid<Dim>::kGhost)
+          break;
+        for (Index q = bin_offset_[static_cast<std::size_t>(b)];
+             q < bin_offset_[static_cast<std::size_t>(b) + 1]; ++q) {
+          const Index p = bin_particles_[static_cast<std::size_t>(q)];
+          double w;
+          Vec<Dim> grad;
+          weight(stencils_[static_cast<std::size_t>(p)], local, w, grad);
+          f(p, w, grad);
+        }
       }
     }
   }
 
 private:
+  /// Stencil rows: W^(Dim-1) lines of W nodes along x.
+  static constexpr int kRows = kStencilSize / W;
+  /// Index of row r of bin or node i in bin_rows_ / node_rows_.
+  static std::size_t row_link(Index i, int r) {
+    return static_cast<std::size_t>(i) * kRows + static_cast<std::size_t>(r);
+  }
   static std::array<int, Dim> digits(int k) {
     std::array<int, Dim> a{};
     for (int d = 0; d < Dim; ++d) {
@@ -137,13 +140,97 @@ private:
     }
     return a;
   }
-  static std::array<Index, Dim> offset(const std::array<Index, Dim>& start, int k) {
-    const auto a = digits(k);
-    std::array<Index, Dim> ijk{};
-    for (int d = 0; d < Dim; ++d)
-      ijk[d] = start[d] + a[d];
-    return ijk;
+
+  // The points sorted by the lattice id of their stencil's first node (ascending index within
+  // a bin), one bin per distinct first node.
+  void bin_points(Index np) {
+    bin_particles_.resize(static_cast<std::size_t>(np));
+    std::iota(bin_particles_.begin(), bin_particles_.end(), Index{0});
+    radix_sort_by(
+        bin_particles_, [&](Index p) { return start_id_[static_cast<std::size_t>(p)]; }, scratch_);
+    bin_start_id_.clear();
+    bin_offset_.clear();
+    bin_of_point_.resize(static_cast<std::size_t>(np));
+    for (Index q = 0; q < np; ++q) {
+      const auto p = static_cast<std::size_t>(bin_particles_[static_cast<std::size_t>(q)]);
+      if (bin_start_id_.empty() || start_id_[p] != bin_start_id_.back()) {
+        bin_start_id_.push_back(start_id_[p]);
+        bin_offset_.push_back(q);
+      }
+      bin_of_point_[p] = static_cast<std::int32_t>(bin_start_id_.size() - 1);
+    }
+    bin_offset_.push_back(np);
   }
+
+  // Active nodes: every node of a bin's stencil, in ascending lattice id: the bins' first
+  // nodes dilated by the stencil one direction at a time (the union of W copies of a sorted
+  // list shifted by 0 .. W-1 lattice steps is a W-way merge), in time and memory linear in the
+  // active nodes. The W nodes of a stencil row are consecutive lattice ids, all active, hence
+  // consecutive node numbers: a row is known by its first node.
+  void activate_nodes() {
+    std::vector<Index> ids(bin_start_id_.begin(), bin_start_id_.end());
+    Index stride = 1;
+    for (int d = 0; d < Dim; ++d) {
+      dilate(ids, stride, scratch_);
+      ids.swap(scratch_);
+      stride *= grid_->nodes(d);
+    }
+    for (int r = 0; r < kRows; ++r) {
+      const auto local = digits(W * r);
+      Index shift = 0, step = 1;
+      for (int d = 0; d < Dim; ++d) {
+        shift += local[static_cast<std::size_t>(d)] * step;
+        step *= grid_->nodes(d);
+      }
+      row_shift_[static_cast<std::size_t>(r)] = shift;
+    }
+    // Per bin and row, the node number of the row's first node; per node and row, the last bin
+    // whose first node lies at or before the node shifted back by the row (both sides ascend,
+    // so each is one merge-like walk per row).
+    const auto bins = bin_start_id_.size();
+    bin_rows_.resize(bins * kRows);
+    node_rows_.resize(ids.size() * kRows);
+    for (int r = 0; r < kRows; ++r) {
+      const Index shift = row_shift_[static_cast<std::size_t>(r)];
+      std::size_t n = 0;
+      for (std::size_t b = 0; b < bins; ++b) {
+        while (ids[n] < bin_start_id_[b] + shift)
+          ++n;
+        bin_rows_[row_link(static_cast<Index>(b), r)] = static_cast<std::int32_t>(n);
+      }
+      std::int32_t last = -1;
+      for (std::size_t m = 0; m < ids.size(); ++m) {
+        while (static_cast<std::size_t>(last + 1) < bins &&
+               bin_start_id_[static_cast<std::size_t>(last + 1)] <= ids[m] - shift)
+          ++last;
+        node_rows_[row_link(static_cast<Index>(m), r)] = last;
+      }
+    }
+    nodes_.assign(*grid_, std::move(ids));
+  }
+
+  /// out = the distinct values of {x + j stride : x in sorted, 0 <= j < W}, ascending.
+  static void dilate(const std::vector<Index>& sorted, Index stride, std::vector<Index>& out) {
+    out.clear();
+    out.reserve(sorted.size() + (W - 1) * sorted.size() / 2);
+    std::array<std::size_t, W> next{};
+    while (true) {
+      Index lowest = -1;
+      for (int j = 0; j < W; ++j)
+        if (next[static_cast<std::size_t>(j)] < sorted.size()) {
+          const Index v = sorted[next[static_cast<std::size_t>(j)]] + j * stride;
+          lowest = lowest < 0 ? v : std::min(lowest, v);
+        }
+      if (lowest < 0)
+        return;
+      out.push_back(lowest);
+      for (int j = 0; j < W; ++j)
+        if (next[static_cast<std::size_t>(j)] < sorted.size() &&
+            sorted[next[static_cast<std::size_t>(j)]] + j * stride == lowest)
+          ++next[static_cast<std::size_t>(j)];
+    }
+  }
+
   static void weight(const Stencil& st, const std::array<int, Dim>& a, double& w, Vec<Dim>& grad) {
     w = 1.0;
     for (int d = 0; d < Dim; ++d)
@@ -159,10 +246,16 @@ private:
 
   const Grid<Dim>* grid_ = nullptr;
   std::vector<Stencil> stencils_;
-  std::vector<Index> bin_offset_;
-  std::vector<Index> bin_particles_;
-  std::vector<char> active_flag_;
-  std::vector<Index> active_;
+  std::vector<Index> start_id_;            ///< per point: lattice id of its stencil's first node
+  std::vector<Index> bin_particles_;       ///< the points, bin by bin
+  std::vector<Index> bin_offset_;          ///< per bin: where its points start (one more entry)
+  std::vector<Index> bin_start_id_;        ///< per bin: lattice id of its first node, ascending
+  std::vector<std::int32_t> bin_of_point_; ///< per point: its bin
+  std::array<Index, kRows> row_shift_{};   ///< lattice id offset of each stencil row's first node
+  std::vector<std::int32_t> bin_rows_;     ///< per bin and row: node number of the row's first node
+  std::vector<std::int32_t> node_rows_;    ///< per node and row: the last bin at or before it, -1
+  std::vector<Index> scratch_;
+  ActiveNodes<Dim> nodes_;
 };
 
 } // namespace talus

@@ -8,7 +8,7 @@
 // bilinear hats of the cell that holds it, clamped into the point's stencil so that only nodes
 // the point reaches receive it.
 #include "talus/core/particles.hpp"
-#include "talus/grid/grid.hpp"
+#include "talus/grid/active_nodes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,15 +25,16 @@ template <int Dim> struct SurfaceLoad {
   bool constant = false;
 };
 
-/// Calls add(node, weight) for the grid nodes that share the load's force, with weights that
+/// Calls add(node, weight) for the active nodes that share the load's force, with weights that
 /// sum to one: the multilinear hats of the cell that holds the face midpoint. `stencil_first`
 /// and `stencil_width` bound the nodes the point reaches (ParticleGridMap::stencil(p).start and
 /// Shape::kWidth).
 template <int Dim, class Add>
-void for_each_surface_load_node(const Grid<Dim>& grid, const Particles<Dim>& particles,
+void for_each_surface_load_node(const ActiveNodes<Dim>& nodes, const Particles<Dim>& particles,
                                 const SurfaceLoad<Dim>& load,
                                 const std::array<Index, Dim>& stencil_first, int stencil_width,
                                 Add&& add) {
+  const Grid<Dim>& grid = nodes.grid();
   const auto s = static_cast<std::size_t>(load.particle);
   const Vec<Dim> x = particles.x[s] + particles.grid_F(s) * load.offset - grid.origin();
   const double h = grid.cell_size();
@@ -55,7 +56,7 @@ void for_each_surface_load_node(const Grid<Dim>& grid, const Particles<Dim>& par
       node[d] += upper ? 1 : 0;
     }
     if (w > 0.0)
-      add(grid.node_id(node), w);
+      add(nodes.find(node), w); // inside the point's stencil: active
   }
 }
 

@@ -67,9 +67,11 @@ private:
     std::vector<OutputField> fields;
     bool recovered = false; ///< has stress_smoothed and grid/
     bool voxels = false;    ///< has voxels/
+    /// The grid/ group's nodes (x, y, z) and first node: the box the material reaches.
+    std::array<Index, 3> grid_nodes{1, 1, 1};
+    Vec3 grid_origin{0, 0, 0};
   };
   std::vector<FrameInfo> frame_info_;
-  std::array<Index, 3> grid_nodes_{1, 1, 1}; ///< physical nodes of the grid/ group (x, y, z)
 };
 
 /// Reads run.h5 back (tests, `talus render`, restart).
@@ -92,9 +94,15 @@ public:
   /// fold their leading dimensions into rows (grid/stress, 1 x ny x nx x 6: ny nx rows of 6).
   std::vector<double> read(Index frame, const std::string& field, Index* rows, Index* cols) const;
   std::string case_text() const;
+  /// An attribute of /metadata as text (numbers in shortest round-trip form, array entries
+  /// separated by single spaces).
   std::string metadata_string(const std::string& name) const;
+  /// The same for an attribute of a frame's sub-group, e.g. ("grid", "origin").
+  std::string frame_attribute(Index frame, const std::string& group, const std::string& name) const;
 
 private:
+  std::string attribute_string(const std::string& group, const std::string& name) const;
+
   long long file_ = -1; // hid_t, kept opaque so users need no HDF5 headers
 };
 

@@ -16,7 +16,7 @@
 // ghost-penalty face, the nodes of an F-bar cell); begin() zeroes the values; add_block(),
 // add_component_block() and add_diagonal() add; finish() gives the matrix (compressed column
 // storage, rows ascending). Each entry sums its contributions in the order they arrive.
-#include "talus/grid/grid.hpp"
+#include "talus/grid/active_nodes.hpp"
 #include "talus/linalg/linear_solver.hpp"
 
 #include <array>
@@ -28,13 +28,14 @@ namespace talus {
 
 template <int Dim> class LatticeAssembler {
 public:
-  /// Sets the structure. `size`: the number of unknowns. `dof(n, a)`: the unknown of component
-  /// a of node n, negative for none; a node's unknowns must be consecutive and ascending in a.
-  /// `for_each_clique(f)` calls f(std::span<const Index> nodes) for every set of nodes that
-  /// couple with each other; it is called twice. Throws std::invalid_argument if a node's
-  /// unknowns are not consecutive, std::length_error if the matrix outgrows int indices.
+  /// Sets the structure on the step's active nodes (node numbers n index `nodes`). `size`: the
+  /// number of unknowns. `dof(n, a)`: the unknown of component a of node n, negative for none; a
+  /// node's unknowns must be consecutive and ascending in a. `for_each_clique(f)` calls
+  /// f(std::span<const Index> nodes) for every set of nodes that couple with each other; it is
+  /// called twice. Throws std::invalid_argument if a node's unknowns are not consecutive,
+  /// std::length_error if the matrix outgrows int indices.
   template <class Dof, class Cliques>
-  void build(const Grid<Dim>& grid, Index size, Dof&& dof, Cliques&& for_each_clique);
+  void build(const ActiveNodes<Dim>& nodes, Index size, Dof&& dof, Cliques&& for_each_clique);
 
   /// Whether the last build() gave the same structure as the build before it.
   bool same_structure_as_before() const { return same_structure_; }
@@ -62,7 +63,7 @@ private:
   /// The lattice code sum_d ijk_d P^d of node n (P = 2R + 1): two nodes' codes differ by the
   /// code of their offset, unique while every offset is within R.
   Index lattice_code(Index n) const;
-  void start_structure(const Grid<Dim>& grid, Index size);
+  void start_structure(const ActiveNodes<Dim>& nodes, Index size);
   void widen(std::span<const Index> nodes);
   void allocate_neighbour_tables();
   void mark_pairs(std::span<const Index> nodes);
@@ -73,12 +74,12 @@ private:
   /// column's start; refuses a pair that build() was not told couples.
   int row_start(std::size_t k, std::size_t l, std::span<const Index> nodes) const;
 
-  const Grid<Dim>* grid_ = nullptr;
+  const ActiveNodes<Dim>* nodes_ = nullptr;
   Index size_ = 0;
   int reach_ = 0;                 ///< R: the widest lattice offset of two coupled nodes
   Index codes_ = 1;               ///< (2R + 1)^Dim offsets per node
   Index centre_ = 0;              ///< the code of offset 0
-  std::vector<int> slot_of_node_; ///< per grid node: its slot, -1 without unknowns, -2 unseen
+  std::vector<int> slot_of_node_; ///< per node: its slot, -1 without unknowns, -2 unseen
   std::vector<Index> node_of_slot_;
   std::vector<Index> first_dof_;                 ///< per slot: its first unknown
   std::vector<int> component_offset_;            ///< per slot and component: dof - first_dof, or -1
@@ -122,9 +123,9 @@ template <int Dim> template <class Dof> int LatticeAssembler<Dim>::visit(Index n
 
 template <int Dim>
 template <class Dof, class Cliques>
-void LatticeAssembler<Dim>::build(const Grid<Dim>& grid, Index size, Dof&& dof,
+void LatticeAssembler<Dim>::build(const ActiveNodes<Dim>& nodes, Index size, Dof&& dof,
                                   Cliques&& for_each_clique) {
-  start_structure(grid, size);
+  start_structure(nodes, size);
   for_each_clique([&](std::span<const Index> nodes) {
     for (const Index n : nodes)
       visit(n, dof);

@@ -11,6 +11,7 @@
 #include "talus/grid/grid.hpp"
 #include "talus/io/case_spec.hpp"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -21,10 +22,21 @@ namespace talus {
 using SymmetricStress = Eigen::Matrix<double, 6, 1>;
 
 template <int Dim> struct RecoveredStress {
-  Grid<Dim> grid;                     ///< the background grid the node arrays refer to
-  std::vector<double> node_mass;      ///< m_i per node (flat Grid::node_id, ghosts included), kg
-  Array<SymmetricStress> node_stress; ///< sigma_i per node, Pa; zero where m_i = 0
+  Grid<Dim> grid; ///< the background grid
+  /// The box of nodes the node arrays cover, the smallest that holds every point's stencil:
+  /// its first node's lattice coordinates (ghosts at -1) and its nodes per direction. The
+  /// arrays follow the material, not the grid.
+  std::array<Index, Dim> first{}, count{};
+  std::vector<double> node_mass;          ///< m_i per node of the box (x fastest), kg
+  Array<SymmetricStress> node_stress;     ///< sigma_i per node of the box, Pa; zero where m_i = 0
   Array<SymmetricStress> smoothed_stress; ///< sigma_p^s per particle, Pa
+  /// The position in the node arrays of the node at lattice coordinates ijk (inside the box).
+  std::size_t box_index(const std::array<Index, Dim>& ijk) const {
+    Index id = 0;
+    for (int d = Dim - 1; d >= 0; --d)
+      id = id * count[d] + (ijk[d] - first[d]);
+    return static_cast<std::size_t>(id);
+  }
 };
 
 /// Computes RecoveredStress for successive frames of one run. It keeps its arrays between

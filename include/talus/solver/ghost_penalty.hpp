@@ -28,7 +28,7 @@
 // 3 * 2^(Dim-1) nodes is
 //     G_face = gamma E h^(Dim-2) (d d^T) (x) M^(x)(Dim-1),   d = [-1, 2, -1],
 // acting on each displacement component alike: independent of h in 2D, growing with h in 3D.
-#include "talus/grid/grid.hpp"
+#include "talus/grid/active_nodes.hpp"
 
 #include <array>
 #include <vector>
@@ -49,17 +49,18 @@ public:
     double stiffness = 0;
   };
 
-  /// Finds the stabilised faces. node_active[n]: node n carries mass this step;
+  /// Finds the stabilised faces among the step's active nodes (node numbers index `nodes`).
+  /// node_active[n]: node n carries mass this step;
   /// node_modulus[n]: the largest Young's modulus among the points that reach node n;
   /// gamma: the dimensionless penalty factor (0 switches stabilisation off); mirror_faces[f]:
   /// grid face f (kXMin, kXMax, ...) is a symmetry plane (a roller).
-  void build(const Grid<Dim>& grid, const std::vector<char>& node_active,
+  void build(const ActiveNodes<Dim>& nodes, const std::vector<char>& node_active,
              const std::vector<double>& node_modulus, double gamma,
              const std::array<bool, 2 * Dim>& mirror_faces = {});
 
   /// Axisymmetry: the face integral per radian carries the radius, taken at the face's centre
   /// (the mean x of its on-face nodes); multiplies every face's stiffness by it.
-  void weight_by_radius(const Grid<Dim>& grid);
+  void weight_by_radius(const ActiveNodes<Dim>& nodes);
 
   const std::vector<Face>& faces() const { return faces_; }
   /// (d d^T) (x) M^(x)(Dim-1), the face matrix for unit stiffness.
@@ -70,7 +71,8 @@ public:
 
 private:
   std::vector<Face> faces_;
-  std::vector<char> cell_active_, cell_in_band_;
+  std::vector<Index> active_cells_; ///< flat index of every cell whose corners carry mass
+  std::vector<char> cell_in_band_;  ///< per active cell: it borders an empty cell
 };
 
 } // namespace talus

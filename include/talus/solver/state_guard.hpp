@@ -8,7 +8,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/particles.hpp"
 #include "talus/core/scene.hpp"
-#include "talus/grid/grid.hpp"
+#include "talus/grid/active_nodes.hpp"
 
 #include <optional>
 #include <span>
@@ -49,11 +49,11 @@ inline constexpr double kCollapsedVolumeRatio = 1e-4;
 template <int Dim>
 std::optional<StateViolation> find_particle_violation(const Particles<Dim>& particles);
 
-/// The first of `nodes` whose value in `field` (indexed by node id) is not finite.
+/// The first active node whose value in `field` (one entry per active node) is not finite.
 template <int Dim>
-std::optional<StateViolation>
-find_node_violation(const Grid<Dim>& grid, std::span<const Index> nodes,
-                    std::span<const Vec<Dim>> field, const char* field_name);
+std::optional<StateViolation> find_node_violation(const ActiveNodes<Dim>& nodes,
+                                                  std::span<const Vec<Dim>> field,
+                                                  const char* field_name);
 
 /// With a fixed explicit step dt: the point with the largest Courant number
 /// dt (c_p + |v_p|) / h when that number exceeds 1, the limit the case reader enforces at t = 0.
