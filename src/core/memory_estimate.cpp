@@ -3,6 +3,8 @@
 #include "talus/core/body_geometry.hpp"
 
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/linalg/linear_solver.hpp"
+#include "talus/material/plastic_material.hpp"
 #include "talus/material/plasticity/elastoplastic_response.hpp"
 #include "talus/material/stress_tangent.hpp"
 #include "talus/shape/shape_functions.hpp"
@@ -48,14 +50,14 @@ constexpr double implicit_point(int dims) {
 }
 
 /// Every array indexed by node is per active node (active_nodes.hpp); nothing is allocated per
-/// node of the grid. Per active node, the map: its lattice id and its bins per stencil
-/// position (int32); per bin (at most one per active node): the nodes per stencil position, the
-/// first node's id and the offset, and while the nodes are sorted two ids per stencil position.
-double node_map(int stencil) {
-  return sizeof(Index) + stencil * sizeof(std::int32_t);
+/// node of the grid. Per active node, the map: its lattice id, its bin per stencil row (int32;
+/// W^(Dim-1) rows) and the two buffers the nodes are dilated in; per bin (at most one per
+/// active node): its node per stencil row, its first node's id and its offset.
+double node_map(int rows) {
+  return sizeof(Index) + rows * sizeof(std::int32_t) + 2 * sizeof(Index);
 }
-double bin_map(int stencil) {
-  return stencil * (sizeof(std::int32_t) + 2 * sizeof(Index)) + 2 * sizeof(Index);
+double bin_map(int rows) {
+  return rows * sizeof(std::int32_t) + 2 * sizeof(Index);
 }
 /// Explicit solver: mass, four Dim-vectors (momentum, force, velocity, acceleration), the held
 /// components and the reaction faces.
@@ -69,9 +71,17 @@ constexpr double node_implicit(int dims) {
   return sizeof(double) + 4 + dims + dims * (sizeof(Index) + 3 * sizeof(double)) + 1 +
          sizeof(double) + 3 * sizeof(int) + sizeof(Index);
 }
-/// The sparse Cholesky / LU factor of a 3D grid's tangent with nested dissection: about this
-/// many entries times n^(4/3) (n unknowns); measured with CHOLMOD on the 3D cantilever.
-constexpr double kFactorFill3d = 10.0;
+/// The sparse Cholesky / LU factor of a 3D grid's tangent: measured with CHOLMOD on the 3D
+/// cantilever, 1.94 GB beyond the rest at 111.5k unknowns and growing like n^1.8 between 15.7k
+/// and 111.5k (57 MB, 480 MB, 1.94 GB at 15.7k, 49k, 111.5k; nested dissection's n^(4/3) is
+/// the asymptote, not what these sizes see). In entries of 12 bytes.
+double factor_entries_3d(double unknowns) {
+  return 1.94e9 / 12.0 * std::pow(unknowns / 111521.0, 1.8);
+}
+/// An iterative solve (CG with MueLu) holds the matrix about this many times: the assembler's,
+/// the row-major copy, Tpetra's and MueLu's hierarchy (measured 3.7 on the 3D cantilever at 49k
+/// and 111.5k unknowns).
+constexpr double kIterativeMatrixCopies = 3.7;
 
 /// std::vector grows by doubling when points are appended one by one: the capacity it ends
 /// with is the next power of two.
@@ -188,9 +198,9 @@ std::string MemoryEstimate::describe() const {
                      "{}{})",
                      format_bytes(total_bytes), cells, active_nodes, format_bytes(grid_bytes),
                      points, format_bytes(point_bytes),
-                     matrix_bytes > 0
-                         ? "; implicit matrix and factor: " + format_bytes(matrix_bytes)
-                         : std::string());
+                     matrix_bytes > 0 ? "; implicit matrix and its solver (factor or multigrid): " +
+                                            format_bytes(matrix_bytes)
+                                      : std::string());
 }
 
 MemoryEstimate estimate_memory(const CaseSpec& spec) {
@@ -253,10 +263,10 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.point_bytes =
       grown(e.points) * per_point_grown + e.points * per_point + plastic_points * kPlasticState;
 
-  const int stencil =
-      static_cast<int>(std::pow(spec.solver.shape == ShapeFunction::Gimp ? 3 : 2, dims));
+  const int rows =
+      static_cast<int>(std::pow(spec.solver.shape == ShapeFunction::Gimp ? 3 : 2, dims - 1));
   const double bins = std::min(e.points, e.active_nodes);
-  e.grid_bytes = e.active_nodes * node_map(stencil) + bins * bin_map(stencil);
+  e.grid_bytes = e.active_nodes * node_map(rows) + bins * bin_map(rows);
   if (explicit_stage)
     e.grid_bytes += e.active_nodes * node_explicit(dims);
   if (implicit) {
@@ -274,10 +284,21 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
     const double coupled_nodes = std::pow(2 * reach + 1, dims);
     const double row = dims * coupled_nodes;
     const double entry = sizeof(double) + sizeof(int);
-    const double factor_entries = dims == 2 ? 8 * dofs * std::log2(std::max(2.0, dofs))
-                                            : kFactorFill3d * std::pow(dofs, 4.0 / 3.0);
+    const double factor_entries =
+        dims == 2 ? 8 * dofs * std::log2(std::max(2.0, dofs)) : factor_entries_3d(dofs);
     const double tables = e.active_nodes * coupled_nodes * sizeof(int);
-    e.matrix_bytes = dofs * row * entry * 2 + factor_entries * entry + tables;
+    // The backend the solver will take (the case's, or the automatic choice).
+    const bool symmetric =
+        !spec.solver.f_bar &&
+        std::none_of(spec.materials.begin(), spec.materials.end(), nonsymmetric_tangent);
+    LinearSolverKind kind = automatic_linear_solver(symmetric, dims, static_cast<long long>(dofs));
+    if (!spec.solver.linear_solver.empty())
+      parse_linear_solver_kind(spec.solver.linear_solver, kind);
+    const bool iterative =
+        kind == LinearSolverKind::TrilinosCg || kind == LinearSolverKind::TrilinosGmres ||
+        kind == LinearSolverKind::EigenCg || kind == LinearSolverKind::EigenBicgstab;
+    e.matrix_bytes = iterative ? dofs * row * entry * kIterativeMatrixCopies + tables
+                               : dofs * row * entry * 2 + factor_entries * entry + tables;
   }
   e.total_bytes = e.grid_bytes + e.point_bytes + e.matrix_bytes;
 

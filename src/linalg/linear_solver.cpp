@@ -80,6 +80,14 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& opti
                               "' is not built into this binary");
 }
 
+LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns) {
+  if (!symmetric)
+    return LinearSolverKind::Umfpack;
+  if (dimension == 3 && unknowns >= kIterativeUnknowns3d && is_built(LinearSolverKind::TrilinosCg))
+    return LinearSolverKind::TrilinosCg;
+  return LinearSolverKind::Cholmod;
+}
+
 std::vector<std::string> available_linear_solvers() {
   std::vector<std::string> names;
   for (const auto& [kind, name] : kNames) {

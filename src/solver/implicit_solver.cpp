@@ -8,6 +8,7 @@
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/shape/shape_functions.hpp"
 #include "talus/solver/ghost_penalty.hpp"
+#include "talus/solver/rigid_body_modes.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -49,12 +50,16 @@ public:
         !f_bar_ && std::all_of(scene.materials.begin(), scene.materials.end(),
                                [](const auto& m) { return m->symmetric_tangent(); });
     // Non-associated flow, softening and F-bar make the tangent nonsymmetric: Cholesky cannot
-    // take it, LU can (the case reader refuses an explicit symmetric-only choice).
+    // take it, LU can (the case reader refuses an explicit symmetric-only choice). Without a
+    // choice, the size of the first step's system decides between direct and iterative.
     const std::string& chosen = scene.spec.solver.linear_solver;
-    const std::string name = !chosen.empty() ? chosen : symmetric ? "cholmod" : "umfpack";
     LinearSolverKind kind;
-    if (!parse_linear_solver_kind(name, kind))
-      throw std::invalid_argument("unknown linear solver " + name);
+    if (chosen.empty()) {
+      step_.map.update(scene.grid, scene.particles);
+      kind = automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
+    } else if (!parse_linear_solver_kind(chosen, kind)) {
+      throw std::invalid_argument("unknown linear solver " + chosen);
+    }
     LinearSolverOptions options;
     options.kind = kind;
     linear_ = make_linear_solver(options);
@@ -110,6 +115,7 @@ public:
         retry.abandoned_line_search = line_search_first;
         retry.iterations += report.iterations;
         retry.linear_solves += report.linear_solves;
+        retry.linear_iterations += report.linear_iterations;
         retry.factorizations += report.factorizations;
         retry.seconds_assembly += report.seconds_assembly;
         retry.seconds_factorization += report.seconds_factorization;
@@ -182,6 +188,9 @@ public:
     serial_map_ = dof_map(whole_, node_owners(all));
     if (serial_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the serial DOF map does not cover every unknown");
+    if (linear_->uses_near_null_space())
+      linear_->set_near_null_space(
+          rigid_body_modes<Dim, Axisymmetric>(step_.map.nodes(), step_.node_dof, step_.dof_count));
     scale_by_prescribed_motion();
   }
 

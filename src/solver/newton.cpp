@@ -103,7 +103,7 @@ int ls_solve(SUNLinearSolver ls, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   try {
     const auto t0 = Clock::now();
     Eigen::VectorXd solution;
-    d.linear.solve(view(b), solution);
+    d.report.linear_iterations += d.linear.solve(view(b), solution).iterations;
     view(x) = solution;
     ++d.report.linear_solves;
     d.report.seconds_solve += seconds_since(t0);

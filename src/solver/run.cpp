@@ -205,7 +205,8 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
                  scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
   double assembly = 0, factorization = 0, solve = 0;
-  Index newton_iterations = 0, linear_solves = 0, cutbacks = 0, max_iterations = 0;
+  Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
+        max_iterations = 0;
   if (s.step == 0)
     rec.append_row(solver->energies(), solver->reactions(), solver->prescribed_reactions(), 0, 0,
                    0);
@@ -216,6 +217,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     x["newton_iterations_max_per_step"] =
         std::max(x["newton_iterations_max_per_step"], static_cast<double>(max_iterations));
     x["linear_solves"] += static_cast<double>(linear_solves);
+    x["linear_iterations"] += static_cast<double>(linear_iterations);
     x["cutbacks"] += static_cast<double>(cutbacks);
     x["seconds_assembly"] += assembly;
     x["seconds_factorization"] += factorization;
@@ -245,6 +247,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       solve += r.seconds_solve;
       newton_iterations += r.iterations;
       linear_solves += r.linear_solves;
+      linear_iterations += r.linear_iterations;
       std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1),
                    rec.stage_start_time + t_end, step_dt, r.converged ? "yes" : "no", r.iterations);
       if (!r.abandoned_history.empty()) {

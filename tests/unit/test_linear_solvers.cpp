@@ -244,6 +244,22 @@ TEST(LinearSolverNames, RoundTripAndAvailability) {
 #endif
 }
 
+// The automatic backend: direct below the measured 3D crossover and in 2D at any size (fill
+// n log n), CG with MueLu above it, LU for a nonsymmetric tangent whatever the size.
+TEST(LinearSolverNames, AutomaticChoiceFollowsTheMeasuredCrossover) {
+  using talus::automatic_linear_solver;
+  using talus::kIterativeUnknowns3d;
+  EXPECT_EQ(automatic_linear_solver(true, 2, 10 * kIterativeUnknowns3d), LinearSolverKind::Cholmod);
+  EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d - 1), LinearSolverKind::Cholmod);
+  EXPECT_EQ(automatic_linear_solver(false, 3, 10 * kIterativeUnknowns3d),
+            LinearSolverKind::Umfpack);
+#ifdef TALUS_HAVE_TRILINOS
+  EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d), LinearSolverKind::TrilinosCg);
+#else
+  EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d), LinearSolverKind::Cholmod);
+#endif
+}
+
 TEST(LinearSolverBackends, ConditionEstimatesAreSane) {
   const auto& p = problems();
   // Poisson: kappa_2 = cot^2(pi / (2 (m + 1))) exactly.

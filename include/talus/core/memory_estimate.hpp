@@ -21,7 +21,7 @@ struct MemoryEstimate {
   double points = 0;               ///< all bodies
   double grid_bytes = 0;           ///< per-active-node arrays (map, solver)
   double point_bytes = 0;          ///< per-point arrays (particles, materials, map, solver)
-  double matrix_bytes = 0;         ///< implicit analyses: tangent matrix, assembly and factor
+  double matrix_bytes = 0;         ///< implicit analyses: tangent matrix, factor or multigrid
   double total_bytes = 0;
   /// Splitting can multiply a body's points by up to 2^max_generations while the run goes on;
   /// this is the largest such factor (1 without splitting). Not part of total_bytes.

@@ -49,6 +49,12 @@ public:
   /// Solves A x = b with the last factorised A; throws NumericalError if an iterative method
   /// does not reach its tolerance.
   virtual LinearSolveStats solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  /// Whether the solver builds a coarse space from the operator's near-null space (algebraic
+  /// multigrid); set_near_null_space() is then worth calling before the next factorize().
+  virtual bool uses_near_null_space() const { return false; }
+  /// The vectors the operator (nearly) annihilates, one column per mode and one row per unknown:
+  /// for elasticity the rigid-body motions. Kept until replaced.
+  virtual void set_near_null_space(const Eigen::MatrixXd& /*modes*/) {}
 };
 
 /// True when two compressed sparse matrices (any Eigen storage order) have the same size and
@@ -63,6 +69,18 @@ bool same_sparsity_pattern(const SparseA& a, const SparseB& b) {
   return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
          std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
 }
+
+/// 3D systems with at least this many unknowns and a symmetric tangent are solved by Belos CG
+/// with MueLu (and the rigid-body modes) unless the case names a solver: measured on the 3D
+/// cantilever, the two take the same time at 7.1k unknowns and CG is 1.6x faster at 15.7k,
+/// 3.9x at 49k, 9.6x at 112k (docs/architecture.md, "Linear solvers in 3D").
+inline constexpr long long kIterativeUnknowns3d = 10000;
+
+/// The backend a case gets when it names none: CHOLMOD for a symmetric tangent, UMFPACK for a
+/// nonsymmetric one, and trilinos_cg for a symmetric 3D system of kIterativeUnknowns3d
+/// unknowns or more when the binary has Trilinos. (GMRES is not the default for nonsymmetric
+/// 3D systems: its convergence on softening and non-associated tangents was not measured.)
+LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns);
 
 /// Throws std::invalid_argument for a kind not built into this binary.
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& options);

@@ -41,6 +41,7 @@ struct NewtonReport {
   int iterations = 0;
   int residual_evaluations = 0;
   int linear_solves = 0;
+  int linear_iterations = 0; ///< summed over the solves (1 per solve for a direct solver)
   int factorizations = 0;
   int symbolic_analyses = 0;
   /// max_i |R_i| / residual_scale at each Newton iterate, the converged one last.

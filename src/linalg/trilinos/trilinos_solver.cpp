@@ -80,6 +80,8 @@ public:
 
   std::string name() const override { return cg_ ? "trilinos_cg" : "trilinos_gmres"; }
   bool requires_symmetric() const override { return cg_; }
+  bool uses_near_null_space() const override { return precond_ == Precond::MueLu; }
+  void set_near_null_space(const Eigen::MatrixXd& modes) override { near_null_space_ = modes; }
 
   void analyze(const SparseMatrix& A) override {
     if (A.rows() != A.cols()) {
@@ -153,6 +155,8 @@ public:
         prec_ = ifpack_;
       } else {
         Teuchos::ParameterList params = muelu_parameters();
+        if (near_null_space_.rows() == rows_.rows() && near_null_space_.cols() > 0)
+          params.sublist("user data").set("Nullspace", null_space_vectors());
         prec_ = MueLu::CreateTpetraPreconditioner(Teuchos::rcp_implicit_cast<OP>(matrix_), params);
       }
     } catch (const std::exception& e) {
@@ -246,6 +250,22 @@ private:
                                                 : " (Ifpack2 ILUT)");
   }
 
+  /// The near-null space as Tpetra vectors on this process's rows: MueLu's smoothed aggregation
+  /// builds its tentative prolongator from them (for elasticity the rigid-body modes, without
+  /// which it interpolates constants only and CG needs several times the iterations).
+  Teuchos::RCP<MV> null_space_vectors() const {
+    const auto modes = static_cast<size_t>(near_null_space_.cols());
+    auto vectors = Teuchos::rcp(new MV(map_, modes));
+    for (size_t m = 0; m < modes; ++m) {
+      auto data = vectors->getDataNonConst(m);
+      for (size_t lr = 0; lr < map_->getNodeNumElements(); ++lr)
+        data[lr] =
+            near_null_space_(static_cast<Eigen::Index>(map_->getGlobalElement(static_cast<LO>(lr))),
+                             static_cast<Eigen::Index>(m));
+    }
+    return vectors;
+  }
+
   /// Copies the values of rows_ into matrix_ (whose graph is rows_'s pattern) for owned rows.
   void fill_values() {
     if (matrix_->isFillComplete()) {
@@ -306,7 +326,8 @@ private:
   Teuchos::RCP<matrix_type> matrix_;
   Teuchos::RCP<ifpack_type> ifpack_;
   Teuchos::RCP<OP> prec_;
-  RowMajorMatrix rows_; ///< copy of the last A (pattern check, filling, true residual)
+  RowMajorMatrix rows_;             ///< copy of the last A (pattern check, filling, true residual)
+  Eigen::MatrixXd near_null_space_; ///< per unknown and mode (MueLu), empty: constants only
   bool analyzed_ = false;
   bool factorized_ = false;
 };
