@@ -71,7 +71,7 @@ template <int Dim> void LatticeAssembler<Dim>::mark_pairs(std::span<const Index>
   for (const Index l : scratch_slots_) {
     int* row = neighbour_row_.data() + at(l) * at(codes_);
     for (const Index k : scratch_slots_)
-      row[slot_code_[at(k)] - slot_code_[at(l)] + centre_] = 0;
+      row[slot_code_[at(k)] - slot_code_[at(l)] + centre_] = static_cast<int>(k);
   }
 }
 
@@ -79,10 +79,6 @@ template <int Dim> void LatticeAssembler<Dim>::mark_pairs(std::span<const Index>
 // start in l's columns; then the columns in the order of the unknowns.
 template <int Dim> void LatticeAssembler<Dim>::build_columns() {
   const auto slots = node_of_slot_.size();
-  const Index P = 2 * reach_ + 1;
-  std::array<Index, Dim> stride{};
-  for (int d = 0; d < Dim; ++d)
-    stride[d] = d == 0 ? 1 : stride[d - 1] * nodes_->grid().nodes(d - 1);
   auto unknowns_of = [&](std::size_t s) {
     int count = 0;
     for (int a = 0; a < Dim; ++a)
@@ -103,11 +99,7 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
     for (Index c = 0; c < codes_; ++c) {
       if (row[c] < 0)
         continue;
-      Index flat = 0, rest = c;
-      for (int d = 0; d < Dim; ++d, rest /= P)
-        flat += (rest % P - reach_) * stride[d];
-      const Index n = nodes_->find_lattice_id(nodes_->lattice_id(node_of_slot_[l]) + flat);
-      const int k = slot_of_node_[at(n)];
+      const int k = row[c]; // mark_pairs left the coupled slot there
       coupled.push_back({first_dof_[at(k)], c, k});
     }
     std::sort(coupled.begin(), coupled.end());

@@ -85,8 +85,9 @@ private:
   std::vector<int> component_offset_;            ///< per slot and component: dof - first_dof, or -1
   std::vector<Index> slot_code_;                 ///< per slot: lattice_code of its node
   std::vector<std::array<Index, Dim>> slot_ijk_; ///< per slot: its node's lattice coordinates
-  std::vector<int> neighbour_row_; ///< per slot and offset code: row_start, -1 uncoupled
-  std::vector<int> slot_of_dof_;   ///< per unknown: its node's slot
+  /// per slot and offset code: row_start, -1 uncoupled (while building: the coupled slot)
+  std::vector<int> neighbour_row_;
+  std::vector<int> slot_of_dof_; ///< per unknown: its node's slot
   bool same_structure_ = false;
   SparseMatrix matrix_;
   std::vector<char> complete_; ///< per slot: every component has an unknown

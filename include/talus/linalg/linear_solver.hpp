@@ -54,7 +54,7 @@ public:
   virtual bool uses_near_null_space() const { return false; }
   /// The vectors the operator (nearly) annihilates, one column per mode and one row per unknown:
   /// for elasticity the rigid-body motions. Kept until replaced.
-  virtual void set_near_null_space(const Eigen::MatrixXd& /*modes*/) {}
+  virtual void set_near_null_space(Eigen::MatrixXd /*modes*/) {}
 };
 
 /// True when two compressed sparse matrices (any Eigen storage order) have the same size and

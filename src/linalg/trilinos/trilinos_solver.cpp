@@ -81,7 +81,7 @@ public:
   std::string name() const override { return cg_ ? "trilinos_cg" : "trilinos_gmres"; }
   bool requires_symmetric() const override { return cg_; }
   bool uses_near_null_space() const override { return precond_ == Precond::MueLu; }
-  void set_near_null_space(const Eigen::MatrixXd& modes) override { near_null_space_ = modes; }
+  void set_near_null_space(Eigen::MatrixXd modes) override { near_null_space_ = std::move(modes); }
 
   void analyze(const SparseMatrix& A) override {
     if (A.rows() != A.cols()) {
