@@ -81,11 +81,11 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& opti
 }
 
 LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns) {
-  if (!symmetric)
-    return LinearSolverKind::Umfpack;
-  if (dimension == 3 && unknowns >= kIterativeUnknowns3d && is_built(LinearSolverKind::TrilinosCg))
-    return LinearSolverKind::TrilinosCg;
-  return LinearSolverKind::Cholmod;
+  const LinearSolverKind iterative =
+      symmetric ? LinearSolverKind::TrilinosCg : LinearSolverKind::TrilinosGmres;
+  if (dimension == 3 && unknowns >= kIterativeUnknowns3d && is_built(iterative))
+    return iterative;
+  return symmetric ? LinearSolverKind::Cholmod : LinearSolverKind::Umfpack;
 }
 
 std::vector<std::string> available_linear_solvers() {

@@ -31,6 +31,7 @@ VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
 VerificationCase slope_fos_slab_3d();
+VerificationCase slope_3d_end_walls();
 // The stability tier (`talus verify --tier stability`).
 VerificationCase stability_explicit_cfl();
 VerificationCase stability_implicit_dt();

@@ -38,6 +38,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::circular_footing(),
                                                       verify_cases::slope_fos(),
                                                       verify_cases::slope_fos_slab_3d(),
+                                                      verify_cases::slope_3d_end_walls(),
                                                       verify_cases::single_element(),
                                                       verify_cases::single_element_3d(),
                                                       verify_cases::stability_explicit_cfl(),

@@ -245,18 +245,22 @@ TEST(LinearSolverNames, RoundTripAndAvailability) {
 }
 
 // The automatic backend: direct below the measured 3D crossover and in 2D at any size (fill
-// n log n), CG with MueLu above it, LU for a nonsymmetric tangent whatever the size.
+// n log n), CG (symmetric) or GMRES (nonsymmetric) with MueLu above it.
 TEST(LinearSolverNames, AutomaticChoiceFollowsTheMeasuredCrossover) {
   using talus::automatic_linear_solver;
   using talus::kIterativeUnknowns3d;
   EXPECT_EQ(automatic_linear_solver(true, 2, 10 * kIterativeUnknowns3d), LinearSolverKind::Cholmod);
-  EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d - 1), LinearSolverKind::Cholmod);
-  EXPECT_EQ(automatic_linear_solver(false, 3, 10 * kIterativeUnknowns3d),
+  EXPECT_EQ(automatic_linear_solver(false, 2, 10 * kIterativeUnknowns3d),
             LinearSolverKind::Umfpack);
+  EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d - 1), LinearSolverKind::Cholmod);
+  EXPECT_EQ(automatic_linear_solver(false, 3, kIterativeUnknowns3d - 1), LinearSolverKind::Umfpack);
 #ifdef TALUS_HAVE_TRILINOS
   EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d), LinearSolverKind::TrilinosCg);
+  EXPECT_EQ(automatic_linear_solver(false, 3, kIterativeUnknowns3d),
+            LinearSolverKind::TrilinosGmres);
 #else
   EXPECT_EQ(automatic_linear_solver(true, 3, kIterativeUnknowns3d), LinearSolverKind::Cholmod);
+  EXPECT_EQ(automatic_linear_solver(false, 3, kIterativeUnknowns3d), LinearSolverKind::Umfpack);
 #endif
 }
 

@@ -70,16 +70,18 @@ bool same_sparsity_pattern(const SparseA& a, const SparseB& b) {
          std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
 }
 
-/// 3D systems with at least this many unknowns and a symmetric tangent are solved by Belos CG
-/// with MueLu (and the rigid-body modes) unless the case names a solver: measured on the 3D
-/// cantilever, the two take the same time at 7.1k unknowns and CG is 1.6x faster at 15.7k,
-/// 3.9x at 49k, 9.6x at 112k (docs/architecture.md, "Linear solvers in 3D").
+/// 3D systems with at least this many unknowns are solved by Belos with MueLu (CG and the
+/// rigid-body modes for a symmetric tangent, GMRES for a nonsymmetric one) unless the case
+/// names a solver. Measured on the 3D cantilever (symmetric), the direct and the iterative
+/// solve take the same time at 7.1k unknowns and CG is 1.6x faster at 15.7k, 3.9x at 49k, 9.6x
+/// at 112k; on the 3D slope (Mohr-Coulomb, psi = 0, F-bar: nonsymmetric) GMRES took 258 s for
+/// the first two load steps at 13.5k unknowns where UMFPACK had not finished the second after
+/// 14 minutes (docs/architecture.md, "Linear solvers in 3D").
 inline constexpr long long kIterativeUnknowns3d = 10000;
 
 /// The backend a case gets when it names none: CHOLMOD for a symmetric tangent, UMFPACK for a
-/// nonsymmetric one, and trilinos_cg for a symmetric 3D system of kIterativeUnknowns3d
-/// unknowns or more when the binary has Trilinos. (GMRES is not the default for nonsymmetric
-/// 3D systems: its convergence on softening and non-associated tangents was not measured.)
+/// nonsymmetric one, and in 3D from kIterativeUnknowns3d unknowns on trilinos_cg or
+/// trilinos_gmres when the binary has Trilinos.
 LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns);
 
 /// Throws std::invalid_argument for a kind not built into this binary.
