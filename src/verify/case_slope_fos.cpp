@@ -47,6 +47,20 @@ FosRunResult search(const VerificationContext& ctx, const CaseSpec& spec, const 
   return r;
 }
 
+// The section of verification/slope_3d_end_walls.yaml for Bishop's method: the prism's
+// face from crest (12, 10) to toe (32, 0), its material and gravity.
+SlopeSection griffiths_lane_section(const CaseSpec& spec) {
+  const MaterialSpec& soil = spec.materials.front();
+  SlopeSection s;
+  s.surface_x = {12, 32};
+  s.surface_y = {10, 0};
+  s.base_y = 0;
+  s.unit_weight = soil.density * spec.gravity.norm();
+  s.cohesion = soil.cohesion;
+  s.tan_phi = std::tan(soil.friction_angle * std::acos(-1.0) / 180);
+  return s;
+}
+
 } // namespace
 
 VerificationCase slope_fos() {
@@ -115,28 +129,6 @@ VerificationCase slope_fos_slab_3d() {
   };
   return vc;
 }
-
-} // namespace talus::verify_cases
-
-namespace talus::verify_cases {
-
-namespace {
-
-// The section of verification/slope_3d_end_walls.yaml for Bishop's method: the prism's
-// face from crest (12, 10) to toe (32, 0), its material and gravity.
-SlopeSection griffiths_lane_section(const CaseSpec& spec) {
-  const MaterialSpec& soil = spec.materials.front();
-  SlopeSection s;
-  s.surface_x = {12, 32};
-  s.surface_y = {10, 0};
-  s.base_y = 0;
-  s.unit_weight = soil.density * spec.gravity.norm();
-  s.cohesion = soil.cohesion;
-  s.tan_phi = std::tan(soil.friction_angle * std::acos(-1.0) / 180);
-  return s;
-}
-
-} // namespace
 
 // A slope of finite width between rough end walls (verification/slope_3d_end_walls.yaml, full
 // tier): the Griffiths & Lane section over W = 2 H, half of it modelled (a fixed wall at z = 0,

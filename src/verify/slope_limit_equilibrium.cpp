@@ -61,7 +61,7 @@ SlipCircle bishop_circle(const SlopeSection& s, double centre_x, double centre_y
       const double dy = sl.height / kEndLayers;
       for (int j = 0; j < kEndLayers; ++j) {
         const double y = sl.base + (j + 0.5) * dy;
-        const double sigma_v = s.unit_weight * (surface_height(s, sl.x) - y);
+        const double sigma_v = s.unit_weight * (sl.base + sl.height - y);
         const double strength = s.cohesion + end_stress_ratio * sigma_v * s.tan_phi;
         end_moment += strength * std::hypot(sl.x - centre_x, y - centre_y) * b * dy;
       }
