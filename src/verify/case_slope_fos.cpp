@@ -105,9 +105,11 @@ VerificationCase slope_fos() {
 //    1 where its displacement has none, while plane-strain F-bar scales the in-plane block by
 //    (J_bar / j)^(1/2) and keeps dF33 = 1. Measured 1.4453 (bracket [1.4375, 1.4531], 8 trials,
 //    617 Newton iterations, 910 s) against 1.4141: +2.2 %, and +3.2 % from Griffiths & Lane's
-//    1.4 where plane strain is +1.0 %. A known failure: 3D F-bar relieves isochoric plastic flow
-//    less than plane-strain F-bar does at this h on a plane-strain problem (both converge to
-//    the same limit as h -> 0; not measured here).
+//    1.4 where plane strain is +1.0 %. A known failure: the slab's dF_bar is plane strain's
+//    times an isochoric stretch, (j / J_bar)^(1/6) in-plane and (J_bar / j)^(1/3) along z, so
+//    each point's own volume change, which F-bar is there to forget, returns as a deviatoric
+//    strain: 3D F-bar relieves isochoric plastic flow less on a plane-strain problem (both
+//    converge to the same limit as h -> 0; not measured here).
 // The elastic slab is the plane-strain beam to 1e-11 (cantilever_slab_3d).
 VerificationCase slope_fos_slab_3d() {
   VerificationCase vc;
