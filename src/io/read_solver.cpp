@@ -130,7 +130,8 @@ std::vector<std::string> Validator::solver_keys() {
           "max_newton_iterations",
           "easy_newton_iterations",
           "ghost_penalty",
-          "f_bar"};
+          "f_bar",
+          "f_bar_out_of_plane"};
 }
 
 SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
@@ -190,6 +191,16 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
                            "explicit analyses do not support it, and " +
                                stage + " is explicit");
     s.f_bar = boolean(m["f_bar"]);
+  }
+  if (m.has("f_bar_out_of_plane")) {
+    const Item out = m["f_bar_out_of_plane"];
+    if (spec.dimension != 2 || spec.geometry != Geometry::PlaneStrain)
+      fail(m.key("f_bar_out_of_plane"),
+           "'f_bar_out_of_plane' chooses plane strain's F-bar; in 3D and axisymmetry F-bar "
+           "always spreads the volume change over three axes");
+    s.f_bar_out_of_plane = boolean(out);
+    if (s.f_bar_out_of_plane && !s.f_bar)
+      fail(out, "has no effect without 'f_bar: true'");
   }
   if (m.has("transfer")) {
     s.transfer = choice(m["transfer"], transfer_scheme_choices());

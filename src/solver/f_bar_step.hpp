@@ -26,6 +26,10 @@ template <int Dim, bool Axisymmetric> class FBarStep {
   using Components = StepComponents<Dim, Axisymmetric>;
 
 public:
+  /// `out_of_plane`: plane strain's volume change spread over three axes
+  /// (solver.f_bar_out_of_plane).
+  explicit FBarStep(bool out_of_plane = false) : axes_(out_of_plane ? 3 : Components::kAxes) {}
+
   /// Groups the points by cell at the step's start; `nodes`: the step's active node count.
   void prepare(const Grid<Dim>& grid, const Particles<Dim>& points, Index nodes) {
     cells_.build(grid, points);
@@ -54,8 +58,8 @@ public:
   }
 
   /// Replaces the trial F of the share's points by dF_bar F_n, dF_bar = (J_bar_c / j_p)^(1/n)
-  /// dF_p over the n axes of StepComponents; false if a point or a cell average has lost its
-  /// volume (j <= 0). step_gradient(p) is the point's 3x3 trial step gradient.
+  /// dF_p over n axes (StepComponents', or three out of plane); false if a point or a cell average
+  /// has lost its volume (j <= 0). step_gradient(p) is the point's 3x3 trial step gradient.
   template <class StepGradient>
   bool apply(const ParticleShare& share, const Particles<Dim>& P, StepGradient&& step_gradient,
              std::vector<Mat3>& trial_F) {
@@ -70,8 +74,7 @@ public:
       const double j = trial_j_[at(p)], j_bar = j_bar_of(p);
       if (!(j > 0 && j_bar > 0))
         return false;
-      trial_F[at(p)] =
-          scaled(step_gradient(p), f_bar_scale<Components::kAxes>(j_bar / j)) * P.F[at(p)];
+      trial_F[at(p)] = scaled(step_gradient(p), f_bar_scale(axes_, j_bar / j)) * P.F[at(p)];
     }
     return true;
   }
@@ -82,7 +85,7 @@ public:
   /// dG/d(dF) of point p at fixed J_bar; keeps dG/dJ_bar for the cell coupling.
   StepTangent<Dim, Axisymmetric> step_tangent_of(Index p, const Mat3& dF, const Mat3& Fn,
                                                  const StressTangent& st) {
-    return f_bar_step_tangent<Dim, Axisymmetric>(dF, Fn, st, trial_j_[at(p)], j_bar_of(p),
+    return f_bar_step_tangent<Dim, Axisymmetric>(dF, Fn, st, trial_j_[at(p)], j_bar_of(p), axes_,
                                                  dG_dJbar_[at(p)]);
   }
 
@@ -140,9 +143,9 @@ public:
 
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
-  /// k dF on the components the step reaches (plane strain keeps dF33 = 1).
-  static Mat3 scaled(Mat3 dF, double k) {
-    if constexpr (Components::kAxes == 3)
+  /// k dF over the F-bar axes (plane strain's default keeps dF33 = 1).
+  Mat3 scaled(Mat3 dF, double k) const {
+    if (axes_ == 3)
       return k * dF;
     dF.template topLeftCorner<Dim, Dim>() *= k;
     return dF;
@@ -162,6 +165,7 @@ private:
     cell_nodes_.erase(std::unique(cell_nodes_.begin(), cell_nodes_.end()), cell_nodes_.end());
   }
 
+  int axes_;                       ///< the axes a step's volume change spreads over
   FBarCells cells_;                ///< the points of each cell, at the step's start
   std::vector<double> trial_j_;    ///< per point: det dF at the trial increment
   std::vector<double> cell_j_bar_; ///< per cell: volume-weighted average of j

@@ -46,6 +46,7 @@ public:
     }
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
     f_bar_ = scene.spec.solver.f_bar;
+    f_bar_step_ = FBarStep<Dim, Axisymmetric>(scene.spec.solver.f_bar_out_of_plane);
     const bool symmetric =
         !f_bar_ && std::all_of(scene.materials.begin(), scene.materials.end(),
                                [](const auto& m) { return m->symmetric_tangent(); });

@@ -9,12 +9,14 @@
 //   dG_ab/ddF_cd = sum_q D_aq,cd dFinv_bq - sum_q tau_aq dFinv_bc dFinv_dq,
 //   D_aq,cd = dtau_aq/ddF_cd = sum_m dtau_aq/dF_cm Fn_dm.
 // With F-bar (f_bar.hpp) the stress is taken at dF_bar = k dF, k = (J_bar / j)^(1/n) over the
-// n axes the step's volume change spreads over (StepComponents::kAxes), and the force keeps the
-// true volume, G = r tau(dF_bar F_n) dF^-T with r = j / J_bar; at fixed J_bar, since
+// n axes the step's volume change spreads over (StepComponents::kAxes, or 3 in plane strain with
+// solver.f_bar_out_of_plane, where dF_bar33 = k moves although dF33 = 1 does not), and the force
+// keeps the true volume, G = r tau(dF_bar F_n) dF^-T with r = j / J_bar; at fixed J_bar, since
 // dj/ddF = j dF^-T and dk/ddF = -(k / n) dF^-T,
 //   dG_ab/ddF_cd = r [dFinv_dc G'_ab + sum_q (k D_aq,cd - (k / n) dFinv_dc E_aq) dFinv_bq
 //                     - sum_q tau_aq dFinv_bc dFinv_dq],       G' = tau dF^-T,
-// where E_aq = sum_cd D_aq,cd dF_cd; and at fixed dF
+// where E_aq = sum_cd D_aq,cd dF_cd over every component k scales (with the out-of-plane
+// spread, plane strain's fixed dF33 = 1 too); and at fixed dF
 //   dG_ab/dJ_bar = -G_ab / J_bar + r k / (n J_bar) sum_q E_aq dFinv_bq.
 #include "talus/core/types.hpp"
 #include "talus/material/stress_tangent.hpp"
@@ -58,9 +60,9 @@ using StepTangent = Eigen::Matrix<double, StepComponents<Dim, Axisymmetric>::kCo
 template <int Dim, bool Axisymmetric>
 using StepVector = Eigen::Matrix<double, StepComponents<Dim, Axisymmetric>::kCount, 1>;
 
-/// F-bar's scale k = (J_bar / j)^(1/Axes) of the step gradient, from the ratio J_bar / j.
-template <int Axes> double f_bar_scale(double volume_ratio) {
-  return Axes == 2 ? std::sqrt(volume_ratio) : std::cbrt(volume_ratio);
+/// F-bar's scale k = (J_bar / j)^(1/axes) of the step gradient, from the ratio J_bar / j.
+inline double f_bar_scale(int axes, double volume_ratio) {
+  return axes == 2 ? std::sqrt(volume_ratio) : std::cbrt(volume_ratio);
 }
 
 namespace step_tangent_detail {
@@ -107,18 +109,24 @@ StepTangent<Dim, Axisymmetric> step_tangent(const Mat3& dF, const Mat3& Fn,
   return A;
 }
 
-/// The F-bar dG/d(dF) at fixed J_bar; `st` is the response at dF_bar F_n, j = det dF, and
+/// The F-bar dG/d(dF) at fixed J_bar; `st` is the response at dF_bar F_n, j = det dF, `axes`
+/// the axes the volume change spreads over (C::kAxes, or 3 in plane strain out of plane), and
 /// dG_dJbar receives dG/dJ_bar at fixed dF.
 template <int Dim, bool Axisymmetric>
-StepTangent<Dim, Axisymmetric> f_bar_step_tangent(const Mat3& dF, const Mat3& Fn,
-                                                  const StressTangent& st, double j, double j_bar,
-                                                  StepVector<Dim, Axisymmetric>& dG_dJbar) {
+StepTangent<Dim, Axisymmetric>
+f_bar_step_tangent(const Mat3& dF, const Mat3& Fn, const StressTangent& st, double j, double j_bar,
+                   int axes, StepVector<Dim, Axisymmetric>& dG_dJbar) {
   using C = StepComponents<Dim, Axisymmetric>;
-  constexpr double n = C::kAxes;
+  const double n = axes;
   const Mat3 dFinv = dF.inverse();
-  const double r = j / j_bar, k = f_bar_scale<C::kAxes>(j_bar / j);
+  const double r = j / j_bar, k = f_bar_scale(axes, j_bar / j);
   const auto D = step_tangent_detail::stress_rate<Dim, Axisymmetric>(Fn, st);
-  const Eigen::Matrix<double, 3 * C::kStressRows, 1> E = D * C::values(dF);
+  Eigen::Matrix<double, 3 * C::kStressRows, 1> E = D * C::values(dF);
+  if (axes > C::kAxes) // plane strain's dF33 = 1 is scaled too: its column of dtau/d(dF)
+    for (int a = 0; a < C::kStressRows; ++a)
+      for (int q = 0; q < 3; ++q)
+        for (int m = 0; m < 3; ++m)
+          E(3 * a + q) += st.dtau_dF(3 * a + q, 6 + m) * Fn(2, m) * dF(2, 2);
   const Mat3 G_prime = st.kirchhoff * dFinv.transpose();
   StepTangent<Dim, Axisymmetric> A;
   for (int k1 = 0; k1 < C::kCount; ++k1) {

@@ -830,6 +830,35 @@ TEST(CaseReaderErrors, FBarNeedsAnImplicitAnalysisAndANonsymmetricSolver) {
                 "'cholmod' needs a symmetric tangent, but f_bar couples the points of a cell"});
 }
 
+// f_bar_out_of_plane chooses plane strain's F-bar: without F-bar it would do nothing, and in 3D
+// (and axisymmetry) F-bar always spreads over three axes.
+TEST(CaseReaderErrors, FBarOutOfPlaneIsPlaneStrainsChoice) {
+  const std::string implicit =
+      with(with(with(kCase, "analysis: explicit", "analysis: implicit_quasistatic"), "  cfl: 0.5",
+                "  dt: 0.01"),
+           "  flip: 0.95", "  flip: 0.95\n  f_bar_out_of_plane: true");
+  expect_error(implicit, {"case.yaml", 60, 23, "solver.f_bar_out_of_plane",
+                          "has no effect without 'f_bar: true'"});
+  const std::string spread =
+      with(implicit, "  f_bar_out_of_plane", "  f_bar: true\n  f_bar_out_of_plane");
+  EXPECT_TRUE(read_case_text(spread, "case.yaml").solver.f_bar_out_of_plane);
+  const std::string slab = R"(name: slab
+analysis: implicit_quasistatic
+dimension: 3
+grid: {origin: [0, 0, 0], extent: [1, 1, 1], cell_size: 0.25}
+materials:
+  - {name: m, model: linear_elastic, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}
+bodies:
+  - {name: b, material: m, shape: box, min: [0, 0, 0], max: [1, 0.5, 1]}
+gravity: [0, -10, 0]
+boundaries: {y_min: fixed}
+time: {end_time: 1, dt: 1}
+solver: {f_bar: true, f_bar_out_of_plane: true}
+)";
+  expect_error(slab, {"case.yaml", 12, 23, "solver.f_bar_out_of_plane",
+                      "in 3D and axisymmetry F-bar always spreads the volume change over three"});
+}
+
 // The step-growth threshold counts Newton iterations, so it cannot exceed their limit.
 TEST(CaseReaderErrors, EasyNewtonIterationsStayWithinTheLimit) {
   const std::string easy = with(kCase, "  flip: 0.95",

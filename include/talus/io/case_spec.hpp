@@ -270,6 +270,12 @@ struct SolverSpec {
   /// remedy for volumetric locking (nu -> 1/2, isochoric plastic flow). Implicit only; makes
   /// the tangent nonsymmetric.
   bool f_bar = false;
+  /// Plane strain only: F-bar spreads a step's volume change over the out-of-plane axis too,
+  /// dF_bar = (J_bar / j)^(1/3) dF with dF_bar33 != 1, as a 3D slab between z rollers does and
+  /// as Hughes' B-bar does in plane strain. Off (the default), F-bar scales the in-plane block
+  /// by (J_bar / j)^(1/2) and keeps dF33 = 1 (de Souza Neto et al. 1996), which relieves
+  /// isochoric plastic flow in plane strain better (docs/case-format.md).
+  bool f_bar_out_of_plane = false;
 };
 
 /// `talus fos`: the strength-reduction search for the factor of safety (docs/case-format.md,

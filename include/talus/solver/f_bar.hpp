@@ -7,8 +7,10 @@
 // per cell: the volume change of a step is averaged over the points of the cell,
 //   J_bar_c = sum_q w_q j_q,   j_q = det dF_q,   w_q = v_q / sum_{q in c} v_q,
 // and each point's step gradient keeps its own isochoric part with the cell's volume change,
-//   dF_bar_p = (J_bar_c / j_p)^(1/Dim) dF_p   (in 2D the in-plane block: plane strain fixes
-// F33 = 1, so det dF_p is the in-plane determinant).
+//   dF_bar_p = (J_bar_c / j_p)^(1/n) dF_p
+// over the n axes the volume change spreads over: three in 3D and axisymmetry; in plane strain
+// (F33 = 1, det dF_p the in-plane determinant) the in-plane block, n = 2, or with
+// solver.f_bar_out_of_plane all three, n = 3, as in a 3D slab between z rollers.
 // The stress is tau(dF_bar F_n); the internal force keeps the true current volume,
 //   f_i = sum_p V0_p (j_p / J_bar_c) tau_p dF_p^-T grad N_i(x_p^n),
 // and its tangent gains a rank-one coupling per cell through J_bar_c (implicit_solver.cpp).
