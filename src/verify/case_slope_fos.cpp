@@ -138,7 +138,7 @@ VerificationCase slope_fos() {
 //    member as valid as the unperturbed one), and the ensemble's spread is reported.
 // Measured (two threads): without F-bar 1.5430 for the slab and every member alike (the same
 // bracket [1.5391, 1.5469]); with F-bar the slab 1.4492 ([1.4453, 1.4531], 9 trials, 798 Newton
-// iterations, 1504 s) against the nearest member 1.4414, +0.54 % (1.09 % from the unperturbed
+// iterations, 1226 s) against the nearest member 1.4414, +0.54 % (1.09 % from the unperturbed
 // 1.4336). Broken on purpose: plane strain's default F-bar, the same comparison with the
 // formulations differing, is reported and would fail (1.4492 against 1.4102, +2.8 %).
 // The elastic slab is the plane-strain beam to 1e-11 (cantilever_slab_3d).
