@@ -154,12 +154,13 @@ double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
   return fill * ((cells_in_box - refined_cells) * per_cell + refined_cells * refined_per_cell);
 }
 
+/// A point's stencil in the map: its first node and W values and slopes per direction.
+static_assert(sizeof(ParticleGridMap<3, CpGimpShape>::Stencil) ==
+              3 * sizeof(Index) + 2 * 3 * CpGimpShape::kWidth * sizeof(double));
 std::size_t stencil_bytes(ShapeFunction shape, int dims) {
-  if (dims == 3)
-    return shape == ShapeFunction::Gimp ? sizeof(ParticleGridMap<3, GimpShape>::Stencil)
-                                        : sizeof(ParticleGridMap<3, LinearShape>::Stencil);
-  return shape == ShapeFunction::Gimp ? sizeof(ParticleGridMap<2, GimpShape>::Stencil)
-                                      : sizeof(ParticleGridMap<2, LinearShape>::Stencil);
+  const auto w = static_cast<std::size_t>(stencil_width(shape));
+  const auto d = static_cast<std::size_t>(dims);
+  return d * sizeof(Index) + 2 * d * w * sizeof(double);
 }
 
 bool any_implicit(const CaseSpec& spec) {
@@ -263,8 +264,7 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.point_bytes =
       grown(e.points) * per_point_grown + e.points * per_point + plastic_points * kPlasticState;
 
-  const int rows =
-      static_cast<int>(std::pow(spec.solver.shape == ShapeFunction::Gimp ? 3 : 2, dims - 1));
+  const int rows = static_cast<int>(std::pow(stencil_width(spec.solver.shape), dims - 1));
   const double bins = std::min(e.points, e.active_nodes);
   e.grid_bytes = e.active_nodes * node_map(rows) + bins * bin_map(rows);
   if (explicit_stage)
@@ -272,14 +272,14 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   if (implicit) {
     e.grid_bytes += e.active_nodes * node_implicit(dims);
     // The tangent: each unknown couples with the unknowns of the nodes that share a point with
-    // it (2W - 1 nodes per direction, W = 3 with GIMP, 2 with linear hats; with F-bar the
+    // it (2W - 1 nodes per direction, W the stencil width; with F-bar the
     // nodes that share a cell's points, 2W + 1), Dim per node; values and indices, held by
     // the assembler's matrix and by the linear solver's copy. The lattice assembler adds a
     // table of (2R + 1)^Dim ints per active node, R the widest coupling (lattice_assembler.hpp).
     // The sparse factor with nested dissection holds about 8 n log2(n) entries on a 2D mesh
     // (George 1973) and about FACTOR n^(4/3) on a 3D one (measured, see below).
     const double dofs = dims * e.active_nodes;
-    const double w = spec.solver.shape == ShapeFunction::Gimp ? 3 : 2;
+    const double w = stencil_width(spec.solver.shape);
     const double reach = spec.solver.f_bar ? w : w - 1;
     const double coupled_nodes = std::pow(2 * reach + 1, dims);
     const double row = dims * coupled_nodes;

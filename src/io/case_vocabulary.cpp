@@ -34,7 +34,10 @@ const Choices<MaterialModel>& material_model_choices() {
 
 const Choices<ShapeFunction>& shape_function_choices() {
   static const Choices<ShapeFunction> c{{"gimp", ShapeFunction::Gimp},
-                                        {"linear", ShapeFunction::Linear}};
+                                        {"linear", ShapeFunction::Linear},
+                                        {"cpgimp", ShapeFunction::CpGimp},
+                                        {"bspline2", ShapeFunction::BSpline2},
+                                        {"bspline3", ShapeFunction::BSpline3}};
   return c;
 }
 

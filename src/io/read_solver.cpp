@@ -1,5 +1,6 @@
 // Time stepping, stages, solver options and the strength-reduction search of a case file.
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/shape/shape_functions.hpp"
 #include "validator.hpp"
 
 namespace talus::detail {
@@ -137,8 +138,20 @@ std::vector<std::string> Validator::solver_keys() {
 SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
   const Map m(*this, it, solver_keys());
   SolverSpec s;
-  if (m.has("shape"))
+  if (m.has("shape")) {
     s.shape = choice(m["shape"], shape_function_choices());
+    // The boundary-modified splines fold the ghost functions into the two nodes inside each
+    // face, and their stencils stay within the grid: each axis needs a stencil's width.
+    const int width = stencil_width(s.shape);
+    const bool spline = s.shape == ShapeFunction::BSpline2 || s.shape == ShapeFunction::BSpline3;
+    for (int d = 0; spline && d < spec.dimension; ++d) {
+      const double cells = std::round(spec.grid.extent[d] / spec.grid.cell_size);
+      if (cells < width - 1)
+        fail(m["shape"], fmt::format("shape '{}' needs at least {} grid cells along each axis; "
+                                     "the grid has {:g} along {}",
+                                     m["shape"].node.Scalar(), width - 1, cells, "xyz"[d]));
+    }
+  }
   if (m.has("scheme"))
     s.scheme = choice(m["scheme"], update_scheme_choices());
   if (m.has("flip")) {
@@ -208,7 +221,8 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
       fail(m["transfer"], "transfer 'apic' is implemented in the explicit analysis only; the "
                           "implicit analyses transfer with FLIP/PIC (set 'flip')");
     if (s.transfer == TransferScheme::Apic && s.shape == ShapeFunction::Linear)
-      fail(m["transfer"], "transfer 'apic' needs shape 'gimp': with linear hats APIC's affine "
+      fail(m["transfer"], "transfer 'apic' needs a shape other than 'linear': with linear hats "
+                          "APIC's affine "
                           "moment D_p vanishes whenever a point sits on a node, and the transfer "
                           "is unstable");
   }

@@ -10,6 +10,7 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
+#include "talus/shape/deformed_domain.hpp"
 #include "talus/shape/shape_functions.hpp"
 
 #include <algorithm>
@@ -40,11 +41,11 @@ template <int Dim, class Shape> struct Weights {
                                        "({:g}, {:g})",
                                        p, x[0], x[1]));
     std::array<double, W> dN{};
+    const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
     for (int d = 0; d < Dim; ++d) {
       const double xr = x[d] - grid.origin()[d];
-      const double lp = particles.half_size0[s][d];
-      start[d] = Shape::start(xr, grid.cell_size(), lp);
-      Shape::eval(xr, grid.cell_size(), lp, start[d], N[d].data(), dN.data());
+      start[d] = Shape::start(xr, grid.cell_size(), lp[d], grid.cells(d));
+      Shape::eval(xr, grid.cell_size(), lp[d], grid.cells(d), start[d], N[d].data(), dN.data());
     }
   }
 

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 namespace talus {
 
@@ -393,7 +394,12 @@ private:
     Eigen::Matrix<double, Dim, kNodes> grads;
     [[maybe_unused]] Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
     Eigen::Matrix<double, Components::kCount, kDofs> AB;
-    Eigen::Matrix<double, kDofs, kDofs> K;
+    // Fixed size while it fits Eigen's stack limit; the 64-node stencils of 3D (cpGIMP, cubic
+    // splines) keep it on the heap, allocated once per share.
+    constexpr bool kOnHeap = kDofs * kDofs * sizeof(double) > 64 * 1024;
+    std::conditional_t<kOnHeap, Eigen::MatrixXd, Eigen::Matrix<double, kDofs, kDofs>> K;
+    if constexpr (kOnHeap)
+      K.resize(kDofs, kDofs);
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;

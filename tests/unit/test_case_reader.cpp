@@ -794,7 +794,18 @@ TEST(CaseReaderErrors, VelocityExpressionThatDoesNotParse) {
 
 TEST(CaseReaderErrors, ApicNeedsGimp) {
   expect_error(with(kCase, "  scheme: usf", "  scheme: usf\n  transfer: apic"),
-               {"case.yaml", 59, 13, "solver.transfer", "transfer 'apic' needs shape 'gimp'"});
+               {"case.yaml", 59, 13, "solver.transfer",
+                "transfer 'apic' needs a shape other than 'linear'"});
+}
+
+// The boundary-modified splines fold the ghost functions into the two nodes inside each face:
+// the cubic ones need three cells on every axis (kMinimal's grid has 4 x 2).
+TEST(CaseReaderErrors, BSplinesNeedAStencilOfCellsPerAxis) {
+  expect_error(kMinimal + "solver: {shape: bspline3}\n",
+               {"case.yaml", 12, 17, "solver.shape",
+                "shape 'bspline3' needs at least 3 grid cells along each axis; the grid has 2 "
+                "along y"});
+  EXPECT_NO_THROW(read_case_text(kMinimal + "solver: {shape: bspline2}\n", "case.yaml"));
   const CaseSpec spec =
       read_case_text(kCase, "case.yaml", {"solver.shape=gimp", "solver.transfer=apic"});
   EXPECT_EQ(spec.solver.transfer, TransferScheme::Apic);

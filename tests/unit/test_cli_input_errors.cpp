@@ -307,7 +307,8 @@ TEST_F(CliInputErrors, TheCostOfABadValueIsBounded) {
        kCase + "solver:\n  shape: " + huge + "\n",
        {},
        {"case.yaml:28:10: key 'solver.shape': unknown value 'qqqqqqqqqq", "qqq...' (allowed: "
-                                                                          "gimp, linear)"}},
+                                                                          "gimp, linear, cpgimp, "
+                                                                          "bspline2, bspline3)"}},
       {"5 MB plain key (YAML's limit is 1024 characters)",
        kCase + huge + ": 1\n",
        {},
@@ -321,7 +322,8 @@ TEST_F(CliInputErrors, TheCostOfABadValueIsBounded) {
       {"100 kB --set value",
        kCase,
        {"solver.shape=" + huge.substr(0, 100000)},
-       {"--set: key 'solver.shape': unknown value 'qqqq", "...' (allowed: gimp, linear)"}},
+       {"--set: key 'solver.shape': unknown value 'qqqq",
+        "...' (allowed: gimp, linear, cpgimp, bspline2, bspline3)"}},
       {"100 kB --set key",
        kCase,
        {huge.substr(0, 100000) + "=1"},

@@ -3,7 +3,7 @@
 // axisymmetry (the hoop stretch dF33 = 1 + u_r / r in F, its force V0 G33 N / r and their rows
 // and columns in K) and 3D, with and without F-bar. A Newton iteration converges
 // quadratically only with this derivative; the whole-run tests see a wrong one only as extra
-// iterations.
+// iterations. Every shape: uGIMP, linear hats, cpGIMP (from a deformed start) and B-splines.
 #include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/dof_map.hpp"
@@ -62,9 +62,15 @@ solver: )" +
 }
 
 /// max |K_fd - K| / max |K| over every column, K at a random increment of up to 2 % of a cell
-/// (every point strained, F far from I), K_fd by central differences of step eps.
-template <int Dim> double tangent_mismatch(const std::string& text) {
+/// (every point strained, F far from I), K_fd by central differences of step eps. `F_start`:
+/// every point's deformation at the start of the step (cpGIMP's domains follow it).
+template <int Dim>
+double tangent_mismatch(const std::string& text, const Mat3& F_start = Mat3::Identity()) {
   Scene<Dim> scene = build_scene<Dim>(read_case_text(text, "test"));
+  for (std::size_t s = 0; s < scene.particles.F.size(); ++s) {
+    scene.particles.F[s] = F_start;
+    scene.particles.volume[s] = F_start.determinant() * scene.particles.volume0[s];
+  }
   auto solver = make_implicit_solver<Dim>(scene);
   solver->prepare(1.0, 1.0, 1.0);
   const Index n = solver->unknowns();
@@ -135,6 +141,35 @@ TEST(ImplicitTangent, AxisymmetricWithFBarMatchesFiniteDifferences) {
 
 TEST(ImplicitTangent, ThreeDimensionalWithFBarMatchesFiniteDifferences) {
   EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: gimp, f_bar: true}")), kTangentTolerance);
+}
+
+// The new shapes. cpGIMP's domain is set from F at the start of the step and held through
+// it (shape/deformed_domain.hpp), so the step's tangent needs no derivative of the domain:
+// checked from a stretched and sheared start, where the domains differ from the initial ones.
+const Mat3 kStretchedStart = (Mat3() << 1.3, 0.2, 0, 0.05, 0.7, 0, 0, 0, 1).finished();
+
+TEST(ImplicitTangent, PlaneStrainCpGimpFromAStretchedStartMatchesFiniteDifferences) {
+  EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: cpgimp, f_bar: true}"), kStretchedStart),
+            kTangentTolerance);
+}
+
+TEST(ImplicitTangent, PlaneStrainBSplinesMatchFiniteDifferences) {
+  EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: bspline2}")), kTangentTolerance);
+  EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: bspline3, f_bar: true}")), kTangentTolerance);
+}
+
+// The quadratic splines are folded at the axis like at any grid face.
+TEST(ImplicitTangent, AxisymmetricBSplineMatchesFiniteDifferences) {
+  EXPECT_LE(tangent_mismatch<2>(block_2d("geometry: axisymmetric", "{shape: bspline2}")),
+            kTangentTolerance);
+}
+
+TEST(ImplicitTangent, ThreeDimensionalCpGimpAndCubicSplinesMatchFiniteDifferences) {
+  Mat3 F = kStretchedStart;
+  F(2, 2) = 1.2;
+  F(2, 0) = 0.1;
+  EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: cpgimp}"), F), kTangentTolerance);
+  EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: bspline3}")), kTangentTolerance);
 }
 
 } // namespace

@@ -33,9 +33,12 @@ Particles<2> random_particles(const Grid<2>& grid, Index n, unsigned seed) {
   return P;
 }
 
-template <class Shape> void check_conservation() {
+/// F: every point's deformation (the domain of cpGIMP follows it).
+template <class Shape> void check_conservation(const Mat2& F = Mat2::Identity()) {
   const Grid<2> grid(Vec2(-1.0, 0.5), 0.25, {16, 12});
-  const Particles<2> P = random_particles(grid, 500, 7);
+  Particles<2> P = random_particles(grid, 500, 7);
+  for (auto& Fp : P.F)
+    Fp.topLeftCorner<2, 2>() = F;
   ParticleGridMap<2, Shape> map;
   map.update(grid, P);
 
@@ -47,7 +50,8 @@ template <class Shape> void check_conservation() {
     std::array<Index, 2> start{};
     for (int d = 0; d < 2; ++d)
       start[static_cast<std::size_t>(d)] =
-          Shape::start(P.x[s][d] - grid.origin()[d], grid.cell_size(), P.half_size0[s][d]);
+          Shape::start(P.x[s][d] - grid.origin()[d], grid.cell_size(),
+                       domain_half_widths<2, Shape>(P, s)[d], grid.cells(d));
     for (Index j = 0; j < Shape::kWidth; ++j)
       for (Index i = 0; i < Shape::kWidth; ++i)
         stencil_ids.insert(grid.node_id({start[0] + i, start[1] + j}));
@@ -118,6 +122,32 @@ TEST(Transfer, GimpConservesMassAndMomentumAndReproducesLinearFields) {
   check_conservation<GimpShape>();
 }
 
+TEST(Transfer, CpGimpConservesMassAndMomentumAndReproducesLinearFields) {
+  // A stretch and a shear: the domains differ from the initial ones along both axes.
+  check_conservation<CpGimpShape>((Mat2() << 1.8, 0.3, 0.1, 0.6).finished());
+}
+TEST(Transfer, QuadraticBSplineConservesMassAndMomentumAndReproducesLinearFields) {
+  check_conservation<QuadraticBSplineShape>();
+}
+TEST(Transfer, CubicBSplineConservesMassAndMomentumAndReproducesLinearFields) {
+  check_conservation<CubicBSplineShape>();
+}
+
+// A cpGIMP domain stretched past the cell size would need nodes beyond the stencil.
+TEST(Transfer, CpGimpDomainWiderThanACellIsANumericalError) {
+  const Grid<2> grid(Vec2(0, 0), 1.0, {8, 8});
+  Particles<2> P = random_particles(grid, 3, 1);
+  P.F[2].topLeftCorner<2, 2>() << 4.5, 0.0, 0.0, 1.0; // lp = 0.25 * 4.5 > h
+  ParticleGridMap<2, CpGimpShape> map;
+  try {
+    map.update(grid, P);
+    FAIL() << "expected a NumericalError";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("particle 2's cpgimp domain"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Transfer, ParticleOutsideTheGridIsANumericalError) {
   const Grid<2> grid(Vec2(0, 0), 1.0, {4, 4});
   Particles<2> P = random_particles(grid, 3, 1);
@@ -180,11 +210,10 @@ TEST(Transfer, ExplicitSolverIsBitwiseIdenticalForAnyThreadCount) {
   // Linear hats with USL are left out: their tiny-mass nodes make that combination unstable
   // on this spinning scene (a known property of USL, not a threading matter).
   const std::pair<ShapeFunction, UpdateScheme> combos[] = {
-      {ShapeFunction::Linear, UpdateScheme::USF},
-      {ShapeFunction::Linear, UpdateScheme::MUSL},
-      {ShapeFunction::Gimp, UpdateScheme::USL},
-      {ShapeFunction::Gimp, UpdateScheme::USF},
-      {ShapeFunction::Gimp, UpdateScheme::MUSL}};
+      {ShapeFunction::Linear, UpdateScheme::USF},    {ShapeFunction::Linear, UpdateScheme::MUSL},
+      {ShapeFunction::Gimp, UpdateScheme::USL},      {ShapeFunction::Gimp, UpdateScheme::USF},
+      {ShapeFunction::Gimp, UpdateScheme::MUSL},     {ShapeFunction::CpGimp, UpdateScheme::MUSL},
+      {ShapeFunction::BSpline2, UpdateScheme::MUSL}, {ShapeFunction::BSpline3, UpdateScheme::USL}};
   for (const auto& [shape, scheme] : combos)
     for (auto transfer : {TransferScheme::Flip, TransferScheme::Apic}) {
       if (transfer == TransferScheme::Apic && shape == ShapeFunction::Linear)

@@ -13,6 +13,7 @@
 #include "talus/core/radix_sort.hpp"
 #include "talus/grid/active_nodes.hpp"
 #include "talus/grid/grid.hpp"
+#include "talus/shape/deformed_domain.hpp"
 
 #include <algorithm>
 #include <array>
@@ -54,11 +55,13 @@ public:
         throw NumericalError(
             fmt::format("particle {} left the grid: position ({:g})", p, fmt::join(x, ", ")));
       Stencil& st = stencils_[s];
+      const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
+      if constexpr (Shape::kDomainFollowsStretch)
+        check_domain(p, lp, h);
       for (int d = 0; d < Dim; ++d) {
         const double xr = x[d] - grid.origin()[d];
-        const double lp = particles.half_size0[s][d];
-        st.start[d] = Shape::start(xr, h, lp);
-        Shape::eval(xr, h, lp, st.start[d], st.N[d].data(), st.dN[d].data());
+        st.start[d] = Shape::start(xr, h, lp[d], grid.cells(d));
+        Shape::eval(xr, h, lp[d], grid.cells(d), st.start[d], st.N[d].data(), st.dN[d].data());
       }
       start_id_[s] = grid.node_id(st.start);
     }
@@ -126,6 +129,17 @@ public:
   }
 
 private:
+  /// A domain that follows the stretch must stay within the stencil's reach.
+  static void check_domain(Index p, const Vec<Dim>& lp, double h) {
+    for (int d = 0; d < Dim; ++d)
+      if (!(lp[d] <= Shape::kMaxHalfWidthInCells * h))
+        throw NumericalError(fmt::format(
+            "particle {}'s {} domain is wider than its stencil reaches: half-width {:g} along "
+            "axis {}, more than {:g} cell size(s) of {:g}; split stretched points (a body's "
+            "'split' block) or start with more particles per cell",
+            p, Shape::kName, lp[d], d, Shape::kMaxHalfWidthInCells, h));
+  }
+
   /// Stencil rows: W^(Dim-1) lines of W nodes along x.
   static constexpr int kRows = kStencilSize / W;
   /// Index of row r of bin or node i in bin_rows_ / node_rows_.

@@ -1,13 +1,21 @@
 #pragma once
 // One-dimensional MPM basis functions; the solver forms tensor products. Each kernel says how
-// many nodes per direction can be non-zero (its stencil width) and fills values and derivatives
-// for the nodes start, start + 1, ..., start + width - 1.
+// many nodes per direction can be non-zero (its stencil width, kWidth), whether the particle
+// domain it averages over follows the point's stretch (kDomainFollowsStretch,
+// shape/deformed_domain.hpp), and fills values and derivatives for the nodes start, start + 1,
+// ..., start + width - 1. Every kernel takes the particle coordinate x relative to the grid
+// origin, the cell size h, the domain half-width lp and the number of cells on the axis (the
+// B-splines are modified at the grid's faces).
 //
 //  * LinearShape: standard MPM hat functions, N(r) = 1 - |r|/h.
-//  * GimpShape: uGIMP (Bardenhagen & Kober 2004), the hat function averaged over a particle
-//    domain of half-width lp <= h/2 that keeps its initial size.
+//  * GimpShape, CpGimpShape (shape/gimp.hpp): the hat averaged over the particle domain, kept
+//    at its initial size (uGIMP) or stretched with the point (cpGIMP).
+//  * BSplineShape<2>, BSplineShape<3> (shape/bspline.hpp): quadratic and cubic B-splines,
+//    boundary-modified at the grid's faces.
 #include "talus/core/types.hpp"
 #include "talus/io/case_spec.hpp"
+#include "talus/shape/bspline.hpp"
+#include "talus/shape/gimp.hpp"
 
 #include <cmath>
 #include <memory>
@@ -17,12 +25,14 @@ namespace talus {
 
 struct LinearShape {
   static constexpr int kWidth = 2;
+  static constexpr bool kDomainFollowsStretch = false;
   static constexpr const char* kName = "linear";
   /// x: particle coordinate relative to the grid origin; lp is unused.
-  static Index start(double x, double h, double /*lp*/) {
+  static Index start(double x, double h, double /*lp*/, Index /*cells*/) {
     return static_cast<Index>(std::floor(x / h));
   }
-  static void eval(double x, double h, double /*lp*/, Index start, double* N, double* dN) {
+  static void eval(double x, double h, double /*lp*/, Index /*cells*/, Index start, double* N,
+                   double* dN) {
     // Half-open cells [x_start, x_start + h): the gradients of the two hats always sum to zero,
     // also for a particle sitting exactly on a node.
     const double xi = x / h - static_cast<double>(start);
@@ -33,36 +43,22 @@ struct LinearShape {
   }
 };
 
-struct GimpShape {
-  static constexpr int kWidth = 3;
-  static constexpr const char* kName = "gimp";
-  static Index start(double x, double h, double lp) {
-    return static_cast<Index>(std::floor((x - lp) / h));
+/// Nodes per direction of a shape's stencil.
+constexpr int stencil_width(ShapeFunction shape) {
+  switch (shape) {
+  case ShapeFunction::Linear:
+    return LinearShape::kWidth;
+  case ShapeFunction::Gimp:
+    return GimpShape::kWidth;
+  case ShapeFunction::CpGimp:
+    return CpGimpShape::kWidth;
+  case ShapeFunction::BSpline2:
+    return QuadraticBSplineShape::kWidth;
+  case ShapeFunction::BSpline3:
+    return CubicBSplineShape::kWidth;
   }
-  /// Value and derivative of the uGIMP function for distance r = x_p - x_i.
-  static void value(double r, double h, double lp, double& N, double& dN) {
-    const double ar = std::abs(r);
-    const double sign = r >= 0 ? 1.0 : -1.0;
-    if (ar < lp) {
-      N = 1.0 - (r * r + lp * lp) / (2.0 * h * lp);
-      dN = -r / (h * lp);
-    } else if (ar < h - lp) {
-      N = 1.0 - ar / h;
-      dN = -sign / h;
-    } else if (ar < h + lp) {
-      const double s = h + lp - ar;
-      N = s * s / (4.0 * h * lp);
-      dN = -sign * s / (2.0 * h * lp);
-    } else {
-      N = 0.0;
-      dN = 0.0;
-    }
-  }
-  static void eval(double x, double h, double lp, Index start, double* N, double* dN) {
-    for (int a = 0; a < kWidth; ++a)
-      value(x - h * static_cast<double>(start + a), h, lp, N[a], dN[a]);
-  }
-};
+  return 0;
+}
 
 /// Instantiates Solver<Shape> for the case's shape function: the one place where the run-time
 /// choice becomes a compile-time parameter of the hot loops.
@@ -73,6 +69,12 @@ std::unique_ptr<Base> make_for_shape(ShapeFunction shape, Args&... args) {
     return std::make_unique<Solver<LinearShape>>(args...);
   case ShapeFunction::Gimp:
     return std::make_unique<Solver<GimpShape>>(args...);
+  case ShapeFunction::CpGimp:
+    return std::make_unique<Solver<CpGimpShape>>(args...);
+  case ShapeFunction::BSpline2:
+    return std::make_unique<Solver<QuadraticBSplineShape>>(args...);
+  case ShapeFunction::BSpline3:
+    return std::make_unique<Solver<CubicBSplineShape>>(args...);
   }
   throw std::logic_error("unknown shape function");
 }
