@@ -157,9 +157,14 @@ double body_points(const BodySpec& b, const GridSpec& g, double& cells_in_box) {
 /// A point's stencil in the map: its first node and W values and slopes per direction.
 static_assert(sizeof(ParticleGridMap<3, CpGimpShape>::Stencil) ==
               3 * sizeof(Index) + 2 * 3 * CpGimpShape::kWidth * sizeof(double));
+/// CPDI keeps a weight and a gradient on each of the W^Dim nodes.
+static_assert(sizeof(ParticleGridMap<3, CpdiShape>::Stencil) ==
+              3 * sizeof(Index) + 64 * 4 * sizeof(double));
 std::size_t stencil_bytes(ShapeFunction shape, int dims) {
   const auto w = static_cast<std::size_t>(stencil_width(shape));
   const auto d = static_cast<std::size_t>(dims);
+  if (shape == ShapeFunction::Cpdi)
+    return d * sizeof(Index) + static_cast<std::size_t>(std::pow(w, d)) * (1 + d) * sizeof(double);
   return d * sizeof(Index) + 2 * d * w * sizeof(double);
 }
 

@@ -37,7 +37,8 @@ const Choices<ShapeFunction>& shape_function_choices() {
                                         {"linear", ShapeFunction::Linear},
                                         {"cpgimp", ShapeFunction::CpGimp},
                                         {"bspline2", ShapeFunction::BSpline2},
-                                        {"bspline3", ShapeFunction::BSpline3}};
+                                        {"bspline3", ShapeFunction::BSpline3},
+                                        {"cpdi", ShapeFunction::Cpdi}};
   return c;
 }
 

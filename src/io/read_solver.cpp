@@ -144,6 +144,11 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
     // face, and their stencils stay within the grid: each axis needs a stencil's width.
     const int width = stencil_width(s.shape);
     const bool spline = s.shape == ShapeFunction::BSpline2 || s.shape == ShapeFunction::BSpline3;
+    if (s.shape == ShapeFunction::Cpdi && spec.dimension == 2 &&
+        spec.geometry == Geometry::Axisymmetric)
+      fail(m["shape"], "shape 'cpdi' averages over the deformed voxel in the plane; in "
+                       "axisymmetry the domain would need weighting by the radius: use 'cpgimp' "
+                       "or a B-spline");
     for (int d = 0; spline && d < spec.dimension; ++d) {
       const double cells = std::round(spec.grid.extent[d] / spec.grid.cell_size);
       if (cells < width - 1)

@@ -69,6 +69,40 @@ template <int Dim, class Shape> struct Weights {
   }
 };
 
+/// CPDI's weights: every node of the stencil, from the deformed voxel's corners.
+template <int Dim> struct CornerWeights {
+  static constexpr int W = CpdiShape::kWidth;
+  typename CpdiShape::template Weights<Dim> all;
+  std::array<Index, Dim> start{}; ///< all.start, named as the tensor weights name it
+
+  CornerWeights() = default;
+  CornerWeights(const Grid<Dim>& grid, const Particles<Dim>& particles, Index p) {
+    const auto s = static_cast<std::size_t>(p);
+    std::array<Index, Dim> cells{};
+    for (int d = 0; d < Dim; ++d)
+      cells[d] = grid.cells(d);
+    CpdiShape::fill<Dim>(p, particles.x[s] - grid.origin(), particles.grid_F(s),
+                         particles.half_size0[s], grid.cell_size(), cells, all);
+    start = all.start;
+  }
+
+  template <class F> void for_each_node(F&& f) const {
+    for (std::size_t k = 0; k < all.w.size(); ++k) {
+      std::array<Index, Dim> node{};
+      std::size_t rest = k;
+      for (int d = 0; d < Dim; ++d) {
+        node[d] = start[d] + static_cast<Index>(rest % W);
+        rest /= W;
+      }
+      f(node, all.w[k]);
+    }
+  }
+};
+
+template <int Dim, class Shape>
+using WeightsOf =
+    std::conditional_t<tensor_product<Shape>(), Weights<Dim, Shape>, CornerWeights<Dim>>;
+
 } // namespace
 
 template <int Dim> class StressRecovery<Dim>::Impl {
@@ -90,7 +124,7 @@ public:
     out_.smoothed_stress.resize(n);
     std::array<Index, Dim> last{};
     for (std::size_t s = 0; s < n; ++s) {
-      weights_[s] = Weights<Dim, Shape>(grid, particles, static_cast<Index>(s));
+      weights_[s] = WeightsOf<Dim, Shape>(grid, particles, static_cast<Index>(s));
       for (int d = 0; d < Dim; ++d) {
         const Index start = weights_[s].start[static_cast<std::size_t>(d)];
         out_.first[d] = s == 0 ? start : std::min(out_.first[d], start);
@@ -130,7 +164,7 @@ public:
 
 private:
   RecoveredStress<Dim> out_;
-  std::vector<Weights<Dim, Shape>> weights_;
+  std::vector<WeightsOf<Dim, Shape>> weights_;
 };
 
 template <int Dim> struct RecoveryIn {

@@ -231,7 +231,9 @@ private:
   // APIC (Jiang et al. 2015): v_p = sum w v_i, C_p = B_p D_p^-1 with B_p = sum w v_i (x_i - x_p)^T
   // and D_p = sum w (x_i - x_p)(x_i - x_p)^T. For tensor-product kernels that reproduce linear
   // fields D_p is diagonal, one 1D second moment per direction. Linear hats lose that moment on
-  // a node (D_dd -> 0); there the affine part in that direction is dropped.
+  // a node (D_dd -> 0); there the affine part in that direction is dropped. CPDI's D_p is full:
+  // the mean over the corners of the hats' moment at the corner plus (x_c - x_p)(x_c - x_p)^T,
+  // at least J J^T (J = F diag(lp0)), so it is regular while det F > 0.
   void apic_update(Index p, double dt) {
     auto& P = scene_.particles;
     const auto s = at(p);
@@ -241,18 +243,28 @@ private:
       v_new += w * velocity_[at(n)];
       B += w * velocity_[at(n)] * (node_position(n) - P.x[s]).transpose();
     });
-    const auto& st = map_.stencil(p);
     const double h = scene_.grid.cell_size();
     M C = M::Zero();
-    for (int d = 0; d < Dim; ++d) {
-      double second_moment = 0;
-      for (int a = 0; a < Shape::kWidth; ++a) {
-        const double r =
-            scene_.grid.origin()[d] + h * static_cast<double>(st.start[d] + a) - P.x[s][d];
-        second_moment += st.N[d][static_cast<std::size_t>(a)] * r * r;
+    if constexpr (!tensor_product<Shape>()) {
+      // CPDI: D_p = sum w (x_i - x_p)(x_i - x_p)^T is a full matrix (the sheared voxel).
+      M D = M::Zero();
+      map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+        const V r = node_position(n) - P.x[s];
+        D += w * r * r.transpose();
+      });
+      C = B * D.inverse();
+    } else {
+      const auto& st = map_.stencil(p);
+      for (int d = 0; d < Dim; ++d) {
+        double second_moment = 0;
+        for (int a = 0; a < Shape::kWidth; ++a) {
+          const double r =
+              scene_.grid.origin()[d] + h * static_cast<double>(st.start[d] + a) - P.x[s][d];
+          second_moment += st.N[d][static_cast<std::size_t>(a)] * r * r;
+        }
+        if (second_moment > 1e-8 * h * h)
+          C.col(d) = B.col(d) / second_moment;
       }
-      if (second_moment > 1e-8 * h * h)
-        C.col(d) = B.col(d) / second_moment;
     }
     P.v[s] = v_new;
     P.affine_velocity[s] = C;

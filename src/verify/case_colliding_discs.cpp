@@ -174,18 +174,18 @@ VerificationCase colliding_discs() {
 }
 
 // The pair for each shape beside uGIMP: momentum to round-off, symmetry and the energy bounds
-// of the reference run. Measured energy losses: cpgimp 0.60 %, bspline2 0.71 %, bspline3
-// 0.57 % (uGIMP 0.58 %); momentum drift 6e-16, 4e-17, 4e-17 of sum m|v0|.
+// of the reference run. Measured energy losses: cpgimp 0.60 %, cpdi 0.34 %, bspline2 0.71 %,
+// bspline3 0.57 % (uGIMP 0.58 %); momentum drift 6e-16, 7e-17, 4e-17, 4e-17 of sum m|v0|.
 VerificationCase colliding_discs_shapes() {
   VerificationCase vc;
   vc.name = "colliding_discs_shapes";
   vc.scene = "colliding_discs";
-  vc.description = "The colliding discs with cpGIMP and quadratic and cubic B-splines: "
+  vc.description = "The colliding discs with cpGIMP, CPDI and quadratic and cubic B-splines: "
                    "momentum, mirror symmetry and energy loss as with uGIMP.";
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
     std::vector<Check> checks;
-    for (const std::string shape : {"cpgimp", "bspline2", "bspline3"}) {
+    for (const std::string shape : {"cpgimp", "cpdi", "bspline2", "bspline3"}) {
       auto c = collision_checks(
           ctx, {"bodies[1].radius=0.15", "bodies[1].centre=[0.78, 0.74]", "time.end_time=0.06"},
           shape);

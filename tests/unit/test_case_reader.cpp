@@ -806,6 +806,13 @@ TEST(CaseReaderErrors, BSplinesNeedAStencilOfCellsPerAxis) {
                 "shape 'bspline3' needs at least 3 grid cells along each axis; the grid has 2 "
                 "along y"});
   EXPECT_NO_THROW(read_case_text(kMinimal + "solver: {shape: bspline2}\n", "case.yaml"));
+}
+
+TEST(CaseReaderErrors, CpdiIsNotAxisymmetric) {
+  expect_error("geometry: axisymmetric\n" + kMinimal + "solver: {shape: cpdi}\n",
+               {"case.yaml", 13, 17, "solver.shape",
+                "shape 'cpdi' averages over the deformed "
+                "voxel in the plane"});
   const CaseSpec spec =
       read_case_text(kCase, "case.yaml", {"solver.shape=gimp", "solver.transfer=apic"});
   EXPECT_EQ(spec.solver.transfer, TransferScheme::Apic);

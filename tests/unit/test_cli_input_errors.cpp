@@ -306,9 +306,10 @@ TEST_F(CliInputErrors, TheCostOfABadValueIsBounded) {
       {"5 MB unknown value",
        kCase + "solver:\n  shape: " + huge + "\n",
        {},
-       {"case.yaml:28:10: key 'solver.shape': unknown value 'qqqqqqqqqq", "qqq...' (allowed: "
-                                                                          "gimp, linear, cpgimp, "
-                                                                          "bspline2, bspline3)"}},
+       {"case.yaml:28:10: key 'solver.shape': unknown value 'qqqqqqqqqq",
+        "qqq...' (allowed: "
+        "gimp, linear, cpgimp, "
+        "bspline2, bspline3, cpdi)"}},
       {"5 MB plain key (YAML's limit is 1024 characters)",
        kCase + huge + ": 1\n",
        {},
@@ -323,7 +324,7 @@ TEST_F(CliInputErrors, TheCostOfABadValueIsBounded) {
        kCase,
        {"solver.shape=" + huge.substr(0, 100000)},
        {"--set: key 'solver.shape': unknown value 'qqqq",
-        "...' (allowed: gimp, linear, cpgimp, bspline2, bspline3)"}},
+        "...' (allowed: gimp, linear, cpgimp, bspline2, bspline3, cpdi)"}},
       {"100 kB --set key",
        kCase,
        {huge.substr(0, 100000) + "=1"},

@@ -3,7 +3,8 @@
 // axisymmetry (the hoop stretch dF33 = 1 + u_r / r in F, its force V0 G33 N / r and their rows
 // and columns in K) and 3D, with and without F-bar. A Newton iteration converges
 // quadratically only with this derivative; the whole-run tests see a wrong one only as extra
-// iterations. Every shape: uGIMP, linear hats, cpGIMP (from a deformed start) and B-splines.
+// iterations. Every shape: uGIMP, linear hats, cpGIMP and CPDI (from a deformed start) and
+// B-splines.
 #include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/dof_map.hpp"
@@ -153,6 +154,11 @@ TEST(ImplicitTangent, PlaneStrainCpGimpFromAStretchedStartMatchesFiniteDifferenc
             kTangentTolerance);
 }
 
+TEST(ImplicitTangent, PlaneStrainCpdiFromAStretchedStartMatchesFiniteDifferences) {
+  EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: cpdi, f_bar: true}"), kStretchedStart),
+            kTangentTolerance);
+}
+
 TEST(ImplicitTangent, PlaneStrainBSplinesMatchFiniteDifferences) {
   EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: bspline2}")), kTangentTolerance);
   EXPECT_LE(tangent_mismatch<2>(block_2d("", "{shape: bspline3, f_bar: true}")), kTangentTolerance);
@@ -164,12 +170,13 @@ TEST(ImplicitTangent, AxisymmetricBSplineMatchesFiniteDifferences) {
             kTangentTolerance);
 }
 
-TEST(ImplicitTangent, ThreeDimensionalCpGimpAndCubicSplinesMatchFiniteDifferences) {
+TEST(ImplicitTangent, ThreeDimensionalCpGimpCubicSplinesAndCpdiMatchFiniteDifferences) {
   Mat3 F = kStretchedStart;
   F(2, 2) = 1.2;
   F(2, 0) = 0.1;
   EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: cpgimp}"), F), kTangentTolerance);
   EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: bspline3}")), kTangentTolerance);
+  EXPECT_LE(tangent_mismatch<3>(block_3d("{shape: cpdi}"), F), kTangentTolerance);
 }
 
 } // namespace

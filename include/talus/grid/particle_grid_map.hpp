@@ -13,13 +13,16 @@
 #include "talus/core/radix_sort.hpp"
 #include "talus/grid/active_nodes.hpp"
 #include "talus/grid/grid.hpp"
+#include "talus/shape/cpdi.hpp"
 #include "talus/shape/deformed_domain.hpp"
+#include "talus/shape/shape_functions.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <fmt/format.h>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 namespace talus {
@@ -34,11 +37,15 @@ public:
     return n;
   }();
 
-  struct Stencil {
+  /// Tensor-product shapes keep W values and slopes per direction; CPDI keeps its weights and
+  /// gradients on every node of the stencil.
+  struct TensorStencil {
     std::array<Index, Dim> start;
     std::array<std::array<double, W>, Dim> N;
     std::array<std::array<double, W>, Dim> dN;
   };
+  using Stencil = std::conditional_t<tensor_product<Shape>(), TensorStencil,
+                                     typename CpdiShape::template Weights<Dim>>;
 
   /// Recomputes stencils, bins and active nodes. Throws NumericalError naming the particle if
   /// one has left the grid.
@@ -55,13 +62,21 @@ public:
         throw NumericalError(
             fmt::format("particle {} left the grid: position ({:g})", p, fmt::join(x, ", ")));
       Stencil& st = stencils_[s];
-      const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
-      if constexpr (Shape::kDomainFollowsStretch)
-        check_domain(p, lp, h);
-      for (int d = 0; d < Dim; ++d) {
-        const double xr = x[d] - grid.origin()[d];
-        st.start[d] = Shape::start(xr, h, lp[d], grid.cells(d));
-        Shape::eval(xr, h, lp[d], grid.cells(d), st.start[d], st.N[d].data(), st.dN[d].data());
+      if constexpr (tensor_product<Shape>()) {
+        const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
+        if constexpr (Shape::kDomainFollowsStretch)
+          check_domain(p, lp, h);
+        for (int d = 0; d < Dim; ++d) {
+          const double xr = x[d] - grid.origin()[d];
+          st.start[d] = Shape::start(xr, h, lp[d], grid.cells(d));
+          Shape::eval(xr, h, lp[d], grid.cells(d), st.start[d], st.N[d].data(), st.dN[d].data());
+        }
+      } else {
+        std::array<Index, Dim> cells{};
+        for (int d = 0; d < Dim; ++d)
+          cells[d] = grid.cells(d);
+        Shape::template fill<Dim>(p, x - grid.origin(), particles.grid_F(s),
+                                  particles.half_size0[s], h, cells, st);
       }
       start_id_[s] = grid.node_id(st.start);
     }
@@ -245,16 +260,29 @@ private:
     }
   }
 
+  static int flat(const std::array<int, Dim>& a) {
+    int k = 0;
+    for (int d = Dim - 1; d >= 0; --d)
+      k = k * W + a[d];
+    return k;
+  }
+
+  /// The weight and gradient of the stencil node at offsets a from its first node.
   static void weight(const Stencil& st, const std::array<int, Dim>& a, double& w, Vec<Dim>& grad) {
-    w = 1.0;
-    for (int d = 0; d < Dim; ++d)
-      w *= st.N[d][static_cast<std::size_t>(a[d])];
-    for (int d = 0; d < Dim; ++d) {
-      double g = st.dN[d][static_cast<std::size_t>(a[d])];
-      for (int e = 0; e < Dim; ++e)
-        if (e != d)
-          g *= st.N[e][static_cast<std::size_t>(a[e])];
-      grad[d] = g;
+    if constexpr (!tensor_product<Shape>()) {
+      w = st.w[static_cast<std::size_t>(flat(a))];
+      grad = st.grad[static_cast<std::size_t>(flat(a))];
+    } else {
+      w = 1.0;
+      for (int d = 0; d < Dim; ++d)
+        w *= st.N[d][static_cast<std::size_t>(a[d])];
+      for (int d = 0; d < Dim; ++d) {
+        double g = st.dN[d][static_cast<std::size_t>(a[d])];
+        for (int e = 0; e < Dim; ++e)
+          if (e != d)
+            g *= st.N[e][static_cast<std::size_t>(a[e])];
+        grad[d] = g;
+      }
     }
   }
 

@@ -22,8 +22,9 @@ enum class AnalysisType { Explicit, ImplicitQuasistatic, ImplicitDynamic };
 /// plane of a body of revolution about x = 0 (axisymmetry: x = r, y = z, F33 = r / R, volumes
 /// and masses per radian). A 3D case is neither.
 enum class Geometry { PlaneStrain, Axisymmetric };
-/// linear hats; uGIMP; cpGIMP (domains follow the stretch); quadratic and cubic B-splines.
-enum class ShapeFunction { Linear, Gimp, CpGimp, BSpline2, BSpline3 };
+/// linear hats; uGIMP; cpGIMP (domains follow the stretch); quadratic and cubic B-splines;
+/// CPDI (the deformed voxel as the domain).
+enum class ShapeFunction { Linear, Gimp, CpGimp, BSpline2, BSpline3, Cpdi };
 enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
 /// an affine velocity per particle so affine fields such as a rigid spin transfer exactly.

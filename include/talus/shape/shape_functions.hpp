@@ -12,9 +12,12 @@
 //    at its initial size (uGIMP) or stretched with the point (cpGIMP).
 //  * BSplineShape<2>, BSplineShape<3> (shape/bspline.hpp): quadratic and cubic B-splines,
 //    boundary-modified at the grid's faces.
+//  * CpdiShape (shape/cpdi.hpp): CPDI over the deformed voxel, not a tensor product; it fills
+//    a point's weights on all its stencil's nodes at once.
 #include "talus/core/types.hpp"
 #include "talus/io/case_spec.hpp"
 #include "talus/shape/bspline.hpp"
+#include "talus/shape/cpdi.hpp"
 #include "talus/shape/gimp.hpp"
 
 #include <cmath>
@@ -43,6 +46,14 @@ struct LinearShape {
   }
 };
 
+/// Whether a shape's weights are tensor products of 1D kernels (all but CPDI).
+template <class Shape> constexpr bool tensor_product() {
+  if constexpr (requires { Shape::kTensorProduct; })
+    return Shape::kTensorProduct;
+  else
+    return true;
+}
+
 /// Nodes per direction of a shape's stencil.
 constexpr int stencil_width(ShapeFunction shape) {
   switch (shape) {
@@ -56,6 +67,8 @@ constexpr int stencil_width(ShapeFunction shape) {
     return QuadraticBSplineShape::kWidth;
   case ShapeFunction::BSpline3:
     return CubicBSplineShape::kWidth;
+  case ShapeFunction::Cpdi:
+    return CpdiShape::kWidth;
   }
   return 0;
 }
@@ -75,6 +88,8 @@ std::unique_ptr<Base> make_for_shape(ShapeFunction shape, Args&... args) {
     return std::make_unique<Solver<QuadraticBSplineShape>>(args...);
   case ShapeFunction::BSpline3:
     return std::make_unique<Solver<CubicBSplineShape>>(args...);
+  case ShapeFunction::Cpdi:
+    return std::make_unique<Solver<CpdiShape>>(args...);
   }
   throw std::logic_error("unknown shape function");
 }
