@@ -3,7 +3,7 @@
 
 Usage: /usr/bin/python3 scripts/plot_bench.py bench.csv bench.png
 
-One line with markers per (shape, backend), points ordered by resolution and labelled with the
+One line with markers per (shape, backend), a colour each and a marker per shape, points ordered by resolution and labelled with the
 number of cells. Rows whose status is not "ok" (or without a positive error and time) are left
 out and listed in the legend title. Uses the Agg backend (no display needed).
 """
@@ -43,13 +43,13 @@ def main(argv):
         series.setdefault((r["shape"], r["backend"]), []).append((int(r["cells"]), sec, err))
 
     fig, ax = plt.subplots(figsize=(11, 6.5), dpi=110)
-    markers = {"linear": "s", "gimp": "o"}
+    markers = {"linear": "s", "gimp": "o", "cpgimp": "^", "cpdi": "v", "bspline2": "D",
+               "bspline3": "P"}
     styles = {"linear": "--", "gimp": "-"}
-    cmap = plt.get_cmap("tab10")
-    backends = sorted({b for (_, b) in series})
-    for (shape, backend), pts in sorted(series.items()):
+    cmap = plt.get_cmap("tab20")
+    for index, ((shape, backend), pts) in enumerate(sorted(series.items())):
         pts.sort()
-        colour = cmap(backends.index(backend) % 10)
+        colour = cmap(index % 20)
         ax.plot([p[1] for p in pts], [p[2] for p in pts], styles.get(shape, "-"),
                 marker=markers.get(shape, "^"), color=colour, label=f"{shape}, {backend}",
                 markersize=6, linewidth=1.2, alpha=0.85)
@@ -71,6 +71,9 @@ def main(argv):
     elif case == "vibrating_bar":
         ax.set_ylabel("RMS centre-of-mass velocity error / amplitude [-]")
         res = "cells along the bar"
+    elif case == "column_large_compression":
+        ax.set_ylabel("relative L2 error of the raw sigma_yy, rho g H / E = 4 [-]")
+        res = "cells over the height"
     else:
         ax.set_ylabel("error [-]")
         res = "cells"

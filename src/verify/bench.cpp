@@ -54,6 +54,9 @@ double cantilever_error(const fs::path& run_dir) {
   return std::abs(u.y() / references::cantilever_deflection(x, 1.0) - 1.0);
 }
 
+// The compressed column of the sweep (column_large_compression): rho g H / E = 4.
+constexpr double kColumnRatio = 4.0;
+
 // The large-deflection beam of the sweep: the 50 load steps to alpha = 2.
 constexpr double kLargeDeflectionAlpha = 2.0;
 constexpr int kLargeDeflectionSteps = 50;
@@ -87,6 +90,10 @@ struct Row {
   std::string message;
 };
 
+/// The shapes beside linear hats and uGIMP: swept with the default backend only (the backends
+/// are compared on the two older shapes).
+const std::vector<std::string> kNewShapes = {"cpgimp", "cpdi", "bspline2", "bspline3"};
+
 std::vector<Config> sweep(const std::string& name, bool quick) {
   std::vector<Config> configs;
   const std::vector<std::string> shapes = {"linear", "gimp"};
@@ -94,14 +101,31 @@ std::vector<Config> sweep(const std::string& name, bool quick) {
     std::vector<int> cells = {2, 4, 8, 16};
     if (quick)
       cells.pop_back();
+    const auto add = [&](const std::string& shape, const std::string& backend, int n) {
+      configs.push_back({shape,
+                         backend,
+                         n,
+                         {fmt::format("grid.cell_size={:.17g}", references::kBeamDepth / n),
+                          "solver.shape=" + shape, "solver.linear_solver=" + backend}});
+    };
     for (const auto& shape : shapes)
       for (const auto& backend : available_linear_solvers())
         for (const int n : cells)
-          configs.push_back({shape,
-                             backend,
-                             n,
-                             {fmt::format("grid.cell_size={:.17g}", references::kBeamDepth / n),
-                              "solver.shape=" + shape, "solver.linear_solver=" + backend}});
+          add(shape, backend, n);
+    for (const auto& shape : kNewShapes)
+      for (const int n : cells)
+        add(shape, "cholmod", n);
+  } else if (name == "column_large_compression") {
+    // rho g H / E = 4: the base squeezed to 35 % of its height.
+    std::vector<int> cells = {8, 16, 32, 64};
+    if (quick)
+      cells.pop_back();
+    for (const auto& shape : {"gimp", "cpgimp", "cpdi", "bspline2", "bspline3"})
+      for (const int n : cells) {
+        auto overrides = references::compressed_column_overrides(n, kColumnRatio);
+        overrides.push_back(std::string("solver.shape=") + shape);
+        configs.push_back({shape, "cholmod", n, overrides});
+      }
   } else if (name == "cantilever_large") {
     std::vector<int> cells = {4, 5, 6, 8, 16};
     if (quick)
@@ -120,6 +144,13 @@ std::vector<Config> sweep(const std::string& name, bool quick) {
     for (const auto& shape : shapes)
       for (const int n : cells) {
         auto overrides = references::vibrating_bar_overrides(n);
+        overrides.push_back("solver.shape=" + shape);
+        configs.push_back({shape, "explicit", n, overrides});
+      }
+    // Three cells high: the cubic splines need three cells on every axis.
+    for (const auto& shape : kNewShapes)
+      for (const int n : cells) {
+        auto overrides = references::vibrating_bar_overrides(n, 2, 3);
         overrides.push_back("solver.shape=" + shape);
         configs.push_back({shape, "explicit", n, overrides});
       }
@@ -244,11 +275,15 @@ Row run_configuration(const std::string& case_name, const Config& c, const Bench
       seconds.push_back(json_number(summary, "wall_seconds"));
     }
     if (row.status.empty()) {
-      row.error = case_name == "cantilever" ? cantilever_error(dir)
-                  : case_name == "cantilever_large"
-                      ? references::large_deflection_error(ResultsReader(dir / "run.h5"),
-                                                           kLargeDeflectionAlpha)
-                      : vibrating_bar_error(dir, c.cells);
+      row.error =
+          case_name == "cantilever" ? cantilever_error(dir)
+          : case_name == "cantilever_large"
+              ? references::large_deflection_error(ResultsReader(dir / "run.h5"),
+                                                   kLargeDeflectionAlpha)
+          : case_name == "column_large_compression"
+              ? references::compressed_column_errors(ResultsReader(dir / "run.h5"), kColumnRatio)
+                    .raw
+              : vibrating_bar_error(dir, c.cells);
       row.status = std::isfinite(row.error) ? "ok" : "failed";
       if (!std::isfinite(row.error))
         row.message = "error is not finite";
@@ -310,7 +345,7 @@ void print_table(const std::string& case_name, const std::vector<Row>& rows, dou
 } // namespace
 
 std::vector<std::string> bench_cases() {
-  return {"cantilever", "cantilever_large", "vibrating_bar"};
+  return {"cantilever", "cantilever_large", "column_large_compression", "vibrating_bar"};
 }
 
 int run_bench(const BenchOptions& options) {

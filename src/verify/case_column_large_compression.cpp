@@ -1,14 +1,13 @@
 // A soft column compressed by its own weight, the measure of how an interpolation copes with
 // large deformation (issue 21). Hencky, implicit quasi-static; rollers on the sides and the
-// base make the exact solution one-dimensional in the initial height Y:
-//     sigma_yy(Y) = -rho0 g (H - Y)                 (the weight above, on an unchanged area),
-//     M ln(lambda) / lambda = sigma_yy(Y)           (Hencky, uniaxial strain: tau = M ln lambda),
-//     u(Y) = int_0^Y (lambda - 1) dY'.
-// M = E (1 - nu) / ((1 + nu)(1 - 2 nu)). At rho g H / E = 4 the base is squeezed to 35 % of
-// its height. Measures: the volume-weighted relative L2 error of the raw and the smoothed
-// particle stress sigma_yy, and the top row's displacement, for each shape and resolution.
+// base make the exact solution one-dimensional in the initial height Y (references.hpp):
+// sigma_yy(Y) = -rho0 g (H - Y), M ln(lambda) / lambda = sigma_yy, u(Y) = int (lambda - 1). At rho
+// g H / E = 4 the base is squeezed to 35 % of its height. Measures: the volume-weighted relative L2
+// error of the raw and the smoothed particle stress sigma_yy, and the top row's displacement, for
+// each shape and resolution.
 #include "cases.hpp"
 #include "newton_log.hpp"
+#include "references.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -17,76 +16,7 @@
 
 namespace talus::verify_cases {
 
-namespace {
-
-// The column is four cells wide at every resolution (the problem is one-dimensional; the
-// cubic splines need three cells along each axis).
-constexpr double kHeight = 1.0, kDensity = 1000.0, kGravity = 10.0, kPoisson = 0.3;
-
-/// The stretch at initial height Y: the root of M ln(l) / l = sigma in (0, 1] (the left side
-/// increases monotonically there), by bisection to round-off.
-double exact_stretch(double Y, double E) {
-  const double M = E * (1 - kPoisson) / ((1 + kPoisson) * (1 - 2 * kPoisson));
-  const double sigma = -kDensity * kGravity * (kHeight - Y);
-  double lo = 1e-6, hi = 1.0;
-  for (int i = 0; i < 200 && hi - lo > 1e-16; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (M * std::log(mid) / mid > sigma ? hi : lo) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-/// u(Y) by composite Simpson's rule on 2000 intervals (lambda is smooth in Y).
-double exact_displacement(double Y, double E) {
-  const int n = 2000;
-  const double dY = Y / n;
-  double sum = 0;
-  for (int i = 0; i <= n; ++i) {
-    const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-    sum += w * (exact_stretch(i * dY, E) - 1.0);
-  }
-  return sum * dY / 3.0;
-}
-
-struct ColumnErrors {
-  double raw = 0, smoothed = 0; ///< relative L2 errors of sigma_yy
-  double top = 0;               ///< the top row's displacement, relative error (signed)
-};
-
-ColumnErrors measure(const ResultsReader& results, double E) {
-  Index rows = 0, dims = 0, cols = 0;
-  const auto x0 = results.read(0, "position", &rows, &dims);
-  const auto volume = results.read(0, "volume", &rows, &cols);
-  const Index last = results.frame_count() - 1;
-  const auto x = results.read(last, "position", &rows, &dims);
-  const auto raw = results.read(last, "stress", &rows, &cols);
-  const auto smoothed = results.read(last, "stress_smoothed", &rows, &cols);
-  double raw_error = 0, smooth_error = 0, norm = 0, top = -1, top_u = 0;
-  int top_count = 0;
-  const auto D = static_cast<std::size_t>(dims), C = static_cast<std::size_t>(cols);
-  for (Index p = 0; p < rows; ++p) {
-    const auto s = static_cast<std::size_t>(p);
-    const double Y = x0[D * s + 1];
-    const double exact = -kDensity * kGravity * (kHeight - Y);
-    raw_error += volume[s] * std::pow(raw[s * C + 3] - exact, 2); // xx, xy, xz, yy, ...
-    smooth_error += volume[s] * std::pow(smoothed[s * C + 3] - exact, 2);
-    norm += volume[s] * exact * exact;
-    if (Y > top + 1e-9) {
-      top = Y;
-      top_u = 0;
-      top_count = 0;
-    }
-    if (std::abs(Y - top) <= 1e-9) {
-      top_u += x[D * s + 1] - Y;
-      ++top_count;
-    }
-  }
-  const double exact_top = exact_displacement(top, E);
-  return {std::sqrt(raw_error / norm), std::sqrt(smooth_error / norm),
-          (top_u / top_count - exact_top) / std::abs(exact_top)};
-}
-
-} // namespace
+using references::ColumnErrors;
 
 VerificationCase column_large_compression() {
   VerificationCase vc;
@@ -103,19 +33,14 @@ VerificationCase column_large_compression() {
     std::vector<Check> checks;
     for (const double ratio : ratios)
       for (const auto& shape : shapes) {
-        const double E = kDensity * kGravity * kHeight / ratio;
         for (const int n : cells) {
-          const double h = kHeight / n;
-          const CaseSpec spec = load_verification_case(
-              ctx,
-              {fmt::format("grid.cell_size={:.17g}", h),
-               fmt::format("grid.extent=[{:.17g}, {:.17g}]", 4 * h, kHeight + 4 * h),
-               fmt::format("bodies[0].max=[{:.17g}, {:.17g}]", 4 * h, kHeight),
-               fmt::format("materials[0].youngs_modulus={:.17g}", E), "solver.shape=" + shape});
+          auto overrides = references::compressed_column_overrides(n, ratio);
+          overrides.push_back("solver.shape=" + shape);
+          const CaseSpec spec = load_verification_case(ctx, overrides);
           const auto dir = ctx.out_dir / fmt::format("ratio{:g}_{}_cells{}", ratio, shape, n);
           run_quiet(spec, dir, ctx.threads);
           const ColumnErrors& e = errors[{ratio, shape, n}] =
-              measure(ResultsReader(dir / "run.h5"), E);
+              references::compressed_column_errors(ResultsReader(dir / "run.h5"), ratio);
           const std::string at = fmt::format("rho g H/E = {:g}, {}, H/{}", ratio, shape, n);
           // The issue's figure (16 cells, 2 x 2 points per cell) is checked below.
           if (!(ratio == 4.0 && n == 16 && shape != "gimp"))

@@ -14,8 +14,9 @@
 //    order of magnitude.
 //  * cpGIMP, CPDI, quadratic and cubic B-splines (issue 21): their gradients are continuous
 //    too; the translating error at most 2 % and at most 2x the one at rest (measured: cpGIMP
-//    0.85 %, ratio 0.60; CPDI 0.91 %, 0.70; bspline2 1.14 %, 1.01; bspline3 1.51 %, 1.04). The splines are run on a grid
-//    three cells high (they need three cells per axis; the bar's response is one-dimensional).
+//    0.85 %, ratio 0.60; CPDI 0.91 %, 0.70; bspline2 1.14 %, 1.01; bspline3 1.51 %, 1.04). The
+//    splines are run on a grid three cells high (they need three cells per axis; the bar's response
+//    is one-dimensional).
 //  * Linear hats: their gradient jumps by 1/h as a point crosses a node, which is the noise the
 //    issue asks to quantify; the errors are reported, and as a control the translating error
 //    must be at least 10x the one at rest (measured 48x): the bar really crosses cells, so the

@@ -111,12 +111,85 @@ double vibrating_bar_rms_error(const CsvTable& series, double total_mass) {
   return std::sqrt(sum / static_cast<double>(t.size())) / amplitude;
 }
 
-std::vector<std::string> vibrating_bar_overrides(int n, int dimension) {
+std::vector<std::string> vibrating_bar_overrides(int n, int dimension, int height_cells) {
   const double h = kBarLength / n;
+  const double height = height_cells * h;
   const std::string depth = dimension == 3 ? fmt::format(", {:.17g}", h) : "";
   return {fmt::format("grid.cell_size={:.17g}", h),
-          fmt::format("grid.extent=[{:.17g}, {:.17g}{}]", kBarLength + 2 * h, h, depth),
-          fmt::format("bodies.bar.max=[{:.17g}, {:.17g}{}]", kBarLength, h, depth)};
+          fmt::format("grid.extent=[{:.17g}, {:.17g}{}]", kBarLength + 2 * h, height, depth),
+          fmt::format("bodies.bar.max=[{:.17g}, {:.17g}{}]", kBarLength, height, depth)};
+}
+
+namespace {
+
+/// The stretch at initial height Y: the root of M ln(l) / l = sigma in (0, 1] (the left side
+/// increases monotonically there), by bisection to round-off.
+double exact_stretch(double Y, double E) {
+  const double M = E * (1 - kColumnPoisson) / ((1 + kColumnPoisson) * (1 - 2 * kColumnPoisson));
+  const double sigma = -kColumnDensity * kColumnGravity * (kColumnHeight - Y);
+  double lo = 1e-6, hi = 1.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-16; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (M * std::log(mid) / mid > sigma ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// u(Y) by composite Simpson's rule on 2000 intervals (lambda is smooth in Y).
+double exact_displacement(double Y, double E) {
+  const int n = 2000;
+  const double dY = Y / n;
+  double sum = 0;
+  for (int i = 0; i <= n; ++i) {
+    const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+    sum += w * (exact_stretch(i * dY, E) - 1.0);
+  }
+  return sum * dY / 3.0;
+}
+
+} // namespace
+
+std::vector<std::string> compressed_column_overrides(int n, double ratio) {
+  const double h = kColumnHeight / n;
+  const double E = kColumnDensity * kColumnGravity * kColumnHeight / ratio;
+  return {fmt::format("grid.cell_size={:.17g}", h),
+          fmt::format("grid.extent=[{:.17g}, {:.17g}]", 4 * h, kColumnHeight + 4 * h),
+          fmt::format("bodies[0].max=[{:.17g}, {:.17g}]", 4 * h, kColumnHeight),
+          fmt::format("materials[0].youngs_modulus={:.17g}", E)};
+}
+
+ColumnErrors compressed_column_errors(const ResultsReader& results, double ratio) {
+  const double E = kColumnDensity * kColumnGravity * kColumnHeight / ratio;
+  Index rows = 0, dims = 0, cols = 0;
+  const auto x0 = results.read(0, "position", &rows, &dims);
+  const auto volume = results.read(0, "volume", &rows, &cols);
+  const Index last = results.frame_count() - 1;
+  const auto x = results.read(last, "position", &rows, &dims);
+  const auto raw = results.read(last, "stress", &rows, &cols);
+  const auto smoothed = results.read(last, "stress_smoothed", &rows, &cols);
+  double raw_error = 0, smooth_error = 0, norm = 0, top = -1, top_u = 0;
+  int top_count = 0;
+  const auto D = static_cast<std::size_t>(dims), C = static_cast<std::size_t>(cols);
+  for (Index p = 0; p < rows; ++p) {
+    const auto s = static_cast<std::size_t>(p);
+    const double Y = x0[D * s + 1];
+    const double exact = -kColumnDensity * kColumnGravity * (kColumnHeight - Y);
+    raw_error += volume[s] * std::pow(raw[s * C + 3] - exact, 2); // xx, xy, xz, yy, ...
+    smooth_error += volume[s] * std::pow(smoothed[s * C + 3] - exact, 2);
+    norm += volume[s] * exact * exact;
+    if (Y > top + 1e-9) {
+      top = Y;
+      top_u = 0;
+      top_count = 0;
+    }
+    if (std::abs(Y - top) <= 1e-9) {
+      top_u += x[D * s + 1] - Y;
+      ++top_count;
+    }
+  }
+  const double exact_top = exact_displacement(top, E);
+  return {std::sqrt(raw_error / norm), std::sqrt(smooth_error / norm),
+          (top_u / top_count - exact_top) / std::abs(exact_top)};
 }
 
 } // namespace talus::references

@@ -52,6 +52,24 @@ std::vector<std::string> large_deflection_overrides(double alpha, int steps, int
 /// elastica at that column's arclength.
 double large_deflection_error(const ResultsReader& results, double alpha);
 
+// The soft column compressed by its own weight (verification/column_large_compression.yaml):
+// H = 1 m, rho0 = 1000 kg/m^3, g = 10 m/s^2, nu = 0.3, Hencky, rollers on the sides and base.
+constexpr double kColumnHeight = 1.0, kColumnDensity = 1000.0, kColumnGravity = 10.0,
+                 kColumnPoisson = 0.3;
+
+/// Overrides for n cells over the height (a column four cells wide) and Young's modulus from
+/// rho g H / E = ratio.
+std::vector<std::string> compressed_column_overrides(int n, double ratio);
+
+/// The errors of a compressed-column run against the exact one-dimensional solution in the
+/// initial height Y: sigma_yy = -rho0 g (H - Y), the stretch lambda from
+/// M ln(lambda) / lambda = sigma_yy (M = lambda_L + 2 mu), u(Y) = int_0^Y (lambda - 1) dY'.
+struct ColumnErrors {
+  double raw = 0, smoothed = 0; ///< volume-weighted relative L2 errors of sigma_yy
+  double top = 0;               ///< the top row's displacement, relative error (signed)
+};
+ColumnErrors compressed_column_errors(const ResultsReader& results, double ratio);
+
 // The axially vibrating bar (verification/vibrating_bar.yaml).
 constexpr double kBarLength = 25.0, kBarYoung = 100.0, kBarDensity = 1.0, kBarV0 = 0.01;
 
@@ -62,6 +80,6 @@ double vibrating_bar_rms_error(const CsvTable& series, double total_mass);
 
 /// Overrides for n cells along the bar, one cell high (and, in 3D, one cell deep), two spare
 /// cells beyond the free end.
-std::vector<std::string> vibrating_bar_overrides(int n, int dimension = 2);
+std::vector<std::string> vibrating_bar_overrides(int n, int dimension = 2, int height_cells = 1);
 
 } // namespace talus::references
