@@ -9,6 +9,8 @@
 #include "newton_log.hpp"
 #include "references.hpp"
 
+#include "talus/io/case_reader.hpp"
+
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
@@ -17,6 +19,88 @@
 namespace talus::verify_cases {
 
 using references::ColumnErrors;
+
+namespace {
+
+/// The raw stress tensors of every point in the last frame.
+std::vector<double> final_stress(const std::filesystem::path& dir) {
+  const ResultsReader results(dir / "run.h5");
+  Index rows = 0, cols = 0;
+  return results.read(results.frame_count() - 1, "stress", &rows, &cols);
+}
+
+/// Largest |sigma_axisymmetric - sigma_plane_strain| / (rho g H) over the points of the column
+/// at n cells, both without the ghost penalty (its faces weigh by r in axisymmetry; see
+/// axisymmetric_cylinder).
+double axisymmetric_difference(const VerificationContext& ctx, const std::string& shape, int n,
+                               double ratio) {
+  auto overrides = references::compressed_column_overrides(n, ratio);
+  overrides.insert(overrides.end(), {"solver.shape=" + shape, "solver.ghost_penalty=0"});
+  const auto plane_dir = ctx.out_dir / fmt::format("plane_no_ghost_{}_cells{}", shape, n);
+  run_quiet(read_case_file(ctx.case_file.string(), overrides), plane_dir, ctx.threads);
+  overrides.push_back("geometry=axisymmetric");
+  const auto axi_dir = ctx.out_dir / fmt::format("axisymmetric_{}_cells{}", shape, n);
+  run_quiet(read_case_file(ctx.case_file.string(), overrides), axi_dir, ctx.threads);
+  const auto a = final_stress(axi_dir), b = final_stress(plane_dir);
+  double worst = 0;
+  for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+    worst = std::max(worst, std::abs(a[k] - b[k]));
+  return worst /
+         (references::kColumnDensity * references::kColumnGravity * references::kColumnHeight);
+}
+
+/// The same column at rho g H / E = 4 in 3D between four rollers and as a cylinder on rollers
+/// (axisymmetry), against plane strain, for every shape. The problem is the same
+/// one-dimensional one. uGIMP, cpGIMP and CPDI (whose voxels stay boxes here) integrate the
+/// lateral and hoop terms of a laterally uniform state exactly with 2 points per cell (their
+/// weights are piecewise linear across the points), so the discrete solutions agree to the
+/// Newton tolerance: 3D measured 1.2e-11, 5.7e-11, 1.3e-10 of the error, axisymmetric stress
+/// 7.6e-11 and 3.7e-15 of rho g H; bound 1e-9. The splines' piecewise-quadratic terms are not
+/// integrated exactly by the points: a laterally uniform stress leaves lateral nodal forces,
+/// and 3D differs from 2D by 9.4e-6 and 1.8e-4 of the error (reported). In axisymmetry the
+/// same imbalance next to the axis, where the hoop strain is u_r / r, moved the first column's
+/// stress by 1.7 % of rho g H at H/16 and 1.9 % at H/32 (cubic 1.5 %, 1.5 %): an error that
+/// refinement does not remove, so the reader refuses the splines in axisymmetry.
+std::vector<Check> other_geometries(const VerificationContext& ctx,
+                                    const std::vector<std::string>& shapes) {
+  constexpr double kRatio = 4.0;
+  constexpr int kCells = 16;
+  std::vector<Check> checks;
+  for (const auto& shape : shapes) {
+    const bool spline = shape == "bspline2" || shape == "bspline3";
+    auto overrides = references::compressed_column_overrides(kCells, kRatio);
+    overrides.push_back("solver.shape=" + shape);
+    const auto plane_dir = ctx.out_dir / fmt::format("plane_{}", shape);
+    run_quiet(read_case_file(ctx.case_file.string(), overrides), plane_dir, ctx.threads);
+    const double plane =
+        references::compressed_column_errors(ResultsReader(plane_dir / "run.h5"), kRatio).raw;
+
+    auto overrides_3d = overrides;
+    const double h = references::kColumnHeight / kCells;
+    overrides_3d[1] = fmt::format("grid.extent=[{:.17g}, {:.17g}, {:.17g}]", 4 * h,
+                                  references::kColumnHeight + 4 * h, 4 * h);
+    overrides_3d[2] = fmt::format("bodies[0].max=[{:.17g}, {:.17g}, {:.17g}]", 4 * h,
+                                  references::kColumnHeight, 4 * h);
+    const auto dir_3d = ctx.out_dir / fmt::format("3d_{}", shape);
+    const auto case_3d = verification_dir() / "column_large_compression_3d.yaml";
+    run_quiet(read_case_file(case_3d.string(), overrides_3d), dir_3d, ctx.threads);
+    const double error_3d =
+        references::compressed_column_errors(ResultsReader(dir_3d / "run.h5"), kRatio).raw;
+    const std::string q3 = fmt::format("{}: 3D raw L2 against 2D's, H/16", shape);
+    const double d3 = std::abs(error_3d - plane) / plane;
+    checks.push_back(spline ? report_only(q3, d3, "lateral quadrature of the splines")
+                            : at_most_check(q3, d3, 1e-9, "the same discrete 1D problem"));
+
+    if (shape == "cpdi" || spline)
+      continue; // refused in axisymmetry
+    checks.push_back(at_most_check(
+        fmt::format("{}: axisymmetric stress against plane strain / (rho g H), H/16", shape),
+        axisymmetric_difference(ctx, shape, kCells, kRatio), 1e-9, "the same discrete 1D problem"));
+  }
+  return checks;
+}
+
+} // namespace
 
 VerificationCase column_large_compression() {
   VerificationCase vc;
@@ -97,6 +181,8 @@ VerificationCase column_large_compression() {
     checks.push_back(
         at_most_check(fmt::format("best raw L2 sigma_yy at rho g H/E = 4, H/16 ({})", best_shape),
                       best, 0.015, "issue 21's target (AMPLE: 1.1 %)"));
+    for (Check& c : other_geometries(ctx, shapes))
+      checks.push_back(std::move(c));
     // cpGIMP's domain is set at the start of a load step and held through it, so the step's
     // consistent tangent needs no derivative of the domain: Newton stays quadratic.
     for (const auto& shape : shapes)

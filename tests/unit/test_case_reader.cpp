@@ -808,6 +808,12 @@ TEST(CaseReaderErrors, BSplinesNeedAStencilOfCellsPerAxis) {
   EXPECT_NO_THROW(read_case_text(kMinimal + "solver: {shape: bspline2}\n", "case.yaml"));
 }
 
+TEST(CaseReaderErrors, SplinesAreNotAxisymmetric) {
+  expect_error(
+      "geometry: axisymmetric\n" + kMinimal + "solver: {shape: bspline2}\n",
+      {"case.yaml", 13, 17, "solver.shape", "shape 'bspline2' is not available in axisymmetry"});
+}
+
 TEST(CaseReaderErrors, CpdiIsNotAxisymmetric) {
   expect_error("geometry: axisymmetric\n" + kMinimal + "solver: {shape: cpdi}\n",
                {"case.yaml", 13, 17, "solver.shape",
