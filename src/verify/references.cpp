@@ -114,7 +114,7 @@ double vibrating_bar_rms_error(const CsvTable& series, double total_mass) {
 std::vector<std::string> vibrating_bar_overrides(int n, int dimension, int height_cells) {
   const double h = kBarLength / n;
   const double height = height_cells * h;
-  const std::string depth = dimension == 3 ? fmt::format(", {:.17g}", h) : "";
+  const std::string depth = dimension == 3 ? fmt::format(", {:.17g}", height) : "";
   return {fmt::format("grid.cell_size={:.17g}", h),
           fmt::format("grid.extent=[{:.17g}, {:.17g}{}]", kBarLength + 2 * h, height, depth),
           fmt::format("bodies.bar.max=[{:.17g}, {:.17g}{}]", kBarLength, height, depth)};

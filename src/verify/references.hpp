@@ -78,8 +78,8 @@ constexpr double kBarLength = 25.0, kBarYoung = 100.0, kBarDensity = 1.0, kBarV0
 /// belongs to t - dt/2 (the initial stress is zero, so the start needs no shift).
 double vibrating_bar_rms_error(const CsvTable& series, double total_mass);
 
-/// Overrides for n cells along the bar, one cell high (and, in 3D, one cell deep), two spare
-/// cells beyond the free end.
+/// Overrides for n cells along the bar, `height_cells` cells high (and, in 3D, as many deep),
+/// two spare cells beyond the free end.
 std::vector<std::string> vibrating_bar_overrides(int n, int dimension = 2, int height_cells = 1);
 
 } // namespace talus::references
