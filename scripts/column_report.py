@@ -184,14 +184,17 @@ def draw_side_by_side(results, labels, path):
 
 
 def plot_series(results, key_x, key_y, ylabel, path, logy=False):
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for label, m in results.items():
-        ax.plot(m[key_x], m[key_y], label=label)
+    """One line per run, a colour each; the refined (h = 0.05 m) runs dashed."""
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    colours = plt.get_cmap("tab20")
+    for index, (label, m) in enumerate(results.items()):
+        ax.plot(m[key_x], m[key_y], "--" if "h0.05" in label else "-", color=colours(index % 20),
+                label=label)
     ax.set_xlabel("time [s]")
     ax.set_ylabel(ylabel)
     if logy:
         ax.set_yscale("log")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
