@@ -1,6 +1,7 @@
 #include "talus/solver/implicit_solver.hpp"
 #include "f_bar_step.hpp"
 #include "implicit_step_setup.hpp"
+#include "point_stiffness.hpp"
 #include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/grid/particle_grid_map.hpp"
@@ -381,25 +382,16 @@ private:
         [&](Index n, int a) { return local_dof(map, n, a); }, cliques);
   }
 
-  // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's nodes,
-  // B mapping the nodal increments to the step components (row Dim a + b: du_a/dx_b; in
-  // axisymmetry the hoop row u_r N / r_n) and A = dG/d(dF) the step tangent; the F-bar cell
-  // coupling; the ghost-penalty face blocks, per component; the
-  // Newmark mass of its owned DOFs.
+  // The share's tangent: per point the dense block K_p = V0 B^T A B over its stencil's nodes
+  // (point_stiffness.hpp); the F-bar cell coupling; the ghost-penalty face blocks, per
+  // component; the Newmark mass of its owned DOFs.
   void assemble_tangent(const ParticleShare& share, const DofMap& map,
                         LatticeAssembler<Dim>& tangent) {
     constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
-    constexpr int kDofs = Dim * kNodes;
     const auto& P = scene_.particles;
     Eigen::Matrix<double, Dim, kNodes> grads;
-    [[maybe_unused]] Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
-    Eigen::Matrix<double, Components::kCount, kDofs> AB;
-    // Fixed size while it fits Eigen's stack limit; the 64-node stencils of 3D (cpGIMP, cubic
-    // splines) keep it on the heap, allocated once per share.
-    constexpr bool kOnHeap = kDofs * kDofs * sizeof(double) > 64 * 1024;
-    std::conditional_t<kOnHeap, Eigen::MatrixXd, Eigen::Matrix<double, kDofs, kDofs>> K;
-    if constexpr (kOnHeap)
-      K.resize(kDofs, kDofs);
+    Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
+    PointStiffness<Dim * kNodes> K(Dim * kNodes, Dim * kNodes);
     for (Index p = share.begin; p < share.end; ++p) {
       const auto s = at(p);
       int k = 0;
@@ -408,27 +400,8 @@ private:
           hoop[k] = w / radius_n(s);
         grads.col(k++) = grad;
       });
-      // B has one gradient per column (rows Dim c .. Dim c + Dim - 1 of column (j, c)) and per
-      // row of B^T, so both products take Dim terms per entry instead of Dim^2; the hoop row
-      // adds one term to the radial columns and rows.
-      const StepTangent<Dim, Axisymmetric> A = point_step_tangent(s);
-      for (int j = 0; j < kNodes; ++j)
-        for (int c = 0; c < Dim; ++c) {
-          AB.col(Dim * j + c) = A.template middleCols<Dim>(Dim * c) * grads.col(j);
-          if constexpr (Axisymmetric)
-            if (c == 0)
-              AB.col(Dim * j) += A.col(Components::kHoop) * hoop[j];
-        }
-      const double V0 = P.volume0[s];
-      for (int col = 0; col < kDofs; ++col)
-        for (int i = 0; i < kNodes; ++i)
-          for (int a = 0; a < Dim; ++a) {
-            double v = grads.col(i).dot(AB.col(col).template segment<Dim>(Dim * a));
-            if constexpr (Axisymmetric)
-              if (a == 0)
-                v += hoop[i] * AB(Components::kHoop, col);
-            K(Dim * i + a, col) = V0 * v;
-          }
+      point_stiffness<Dim, Axisymmetric, kNodes>(grads, hoop, point_step_tangent(s), P.volume0[s],
+                                                 K);
       const auto nodes = step_.map.stencil_nodes(p);
       tangent.add_block(nodes, K);
     }
