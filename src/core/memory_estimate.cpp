@@ -239,9 +239,9 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
     e.body_points.push_back(n);
     e.points += n;
     // The nodes a body's points touch: its cells as a square (cubic) block plus the stencil's
-    // ring.
+    // ring (three nodes wide, four with the four-node stencils).
     const double side = std::pow(cells, 1.0 / dims);
-    active += std::pow(side + 3, dims);
+    active += std::pow(side + std::max(3, stencil_width(spec.solver.shape)), dims);
     if (b.split)
       e.split_growth = std::max(e.split_growth, std::exp2(b.split->max_generations));
     if (n > largest) {
