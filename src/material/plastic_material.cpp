@@ -74,15 +74,13 @@ Vec3 PlasticMaterial::elastic_strain(std::size_t p) const {
 
 double PlasticMaterial::stored_energy(std::span<const Index> ids, std::span<const Mat3>,
                                       std::span<const double> volume0) const {
-  double sum = 0;
-  for (const Index id : ids) {
-    const auto p = static_cast<std::size_t>(id);
+  return parallel_sum(static_cast<Index>(ids.size()), [&](Index k) {
+    const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
     if (p >= converged_.size())
-      continue; // never evaluated: unstrained
+      return 0.0; // never evaluated: unstrained
     const Vec3 e = elastic_strain(p);
-    sum += volume0[p] * (lame().mu * e.squaredNorm() + 0.5 * lame().lambda * e.sum() * e.sum());
-  }
-  return sum;
+    return volume0[p] * (lame().mu * e.squaredNorm() + 0.5 * lame().lambda * e.sum() * e.sum());
+  });
 }
 
 void PlasticMaterial::plastic_strain(std::span<const Index> ids, std::span<double> out) const {

@@ -30,6 +30,8 @@ public:
     // previous one left.
     if (apic_ && scene.particles.affine_velocity.size() != static_cast<std::size_t>(P.size()))
       throw std::logic_error("APIC transfer without the points' affine velocities");
+    for (const auto& material : scene.materials)
+      wave_speed_.push_back(material->wave_speed());
     update_stress(); // stress consistent with the initial F
   }
 
@@ -44,24 +46,22 @@ public:
     }
     switch (scene_.spec.solver.scheme) {
     case UpdateScheme::USF:
-      gather_mass_momentum();
+      gather<kMass>();
       grid_velocity_from_momentum();
       update_kinematics_and_stress(dt);
-      gather_forces();
+      gather<kForce>();
       grid_acceleration(dt);
       particle_update(dt);
       break;
     case UpdateScheme::USL:
-      gather_mass_momentum();
-      gather_forces();
+      gather<kMass | kForce>();
       grid_velocity_from_momentum();
       grid_acceleration(dt);
       particle_update(dt);
       update_kinematics_and_stress(dt);
       break;
     case UpdateScheme::MUSL:
-      gather_mass_momentum();
-      gather_forces();
+      gather<kMass | kForce>();
       grid_velocity_from_momentum();
       grid_acceleration(dt);
       particle_update(dt);
@@ -73,12 +73,13 @@ public:
 
   double stable_dt(double cfl) const override {
     const auto& P = scene_.particles;
-    double max_speed = 0;
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = static_cast<std::size_t>(p);
-      const double c = scene_.materials[static_cast<std::size_t>(P.material[s])]->wave_speed();
-      max_speed = std::max(max_speed, c + P.v[s].norm());
-    }
+    const double max_speed = parallel_reduce(
+        P.size(), 0.0,
+        [&](double& fastest, Index begin, Index end) {
+          for (auto s = at(begin); s < at(end); ++s)
+            fastest = std::max(fastest, wave_speed_[at(P.material[s])] + P.v[s].norm());
+        },
+        [](double& fastest, double block) { fastest = std::max(fastest, block); });
     return cfl * scene_.grid.cell_size() / max_speed;
   }
 
@@ -110,57 +111,116 @@ private:
     acceleration_.resize(nn);
     held_.resize(nn);
     reaction_face_.resize(nn);
-    for (Index n = 0; n < node_count(); ++n) {
+    parallel_for(node_count(), [&](Index n) {
       const auto ijk = map_.nodes().ijk(n);
       held_[at(n)] = scene_.face_conditions.held(ijk);
       reaction_face_[at(n)] = scene_.face_conditions.reaction_faces(ijk);
-    }
+    });
+    // The nodes that report a reaction, in ascending order: the reactions' sums run over them
+    // alone and in a fixed order.
+    reaction_nodes_.clear();
+    for (Index n = 0; n < node_count(); ++n)
+      if (std::any_of(reaction_face_[at(n)].begin(), reaction_face_[at(n)].end(),
+                      [](std::int8_t face) { return face >= 0; }))
+        reaction_nodes_.push_back(n);
   }
 
-  // The particle's velocity field evaluated at a node: v_p, plus C_p (x_i - x_p) with APIC.
-  V particle_velocity_at(Index p, const V& xi) const {
-    const auto& P = scene_.particles;
-    if (!apic_)
-      return P.v[at(p)];
-    return P.v[at(p)] + P.affine_velocity[at(p)] * (xi - P.x[at(p)]);
-  }
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
 
-  void gather_mass_momentum() {
+  // What one P2G gather collects: mass and momentum, and/or the nodal force.
+  static constexpr int kMass = 1;
+  static constexpr int kForce = 2;
+
+  // What a gather reads of each point, per slot (ParticleGridMap: the points bin by bin), built
+  // in one parallel pass: the gathers then sweep these arrays in order, and each visit of a
+  // point from one of its W^Dim nodes costs a few multiply-adds. APIC's momentum at node x_i,
+  // m (v + C (x_i - x_a)) with x_a the point's position at the start of the step, is kept as
+  // m (v - C x_a) and m C, whose weighted sum is multiplied by x_i once per node.
+  struct MassLoad {
+    double m;
+    V mv;
+  };
+  struct ForceLoad {
+    M stress_volume; ///< -V sigma on the grid's axes: the force is stress_volume grad(N)
+    V body;          ///< point load plus gravity, m g
+    double hoop;     ///< axisymmetry: V sigma_33 / r, pulling the radial force
+  };
+
+  // Fills the mass loads (momentum anchored at `anchor`, APIC) and/or the force loads.
+  template <int kWhat> void fill_loads(const std::vector<V>& anchor) {
     const auto& P = scene_.particles;
-    parallel_for(node_count(), [&](Index n) {
-      double m = 0;
-      V mv = V::Zero();
-      const V xi = node_position(n);
-      map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
-        m += w * P.mass[at(p)];
-        mv += (w * P.mass[at(p)]) * particle_velocity_at(p, xi);
-      });
-      mass_[at(n)] = m;
-      momentum_[at(n)] = mv;
+    const auto np = at(P.size());
+    if constexpr ((kWhat & kMass) != 0) {
+      mass_load_.resize(np);
+      if (apic_)
+        affine_momentum_.resize(np);
+    }
+    if constexpr ((kWhat & kForce) != 0)
+      force_load_.resize(np);
+    const V g = head<Dim>(scene_.spec.gravity);
+    parallel_for(P.size(), [&](Index q) {
+      const auto p = at(map_.point_at_slot(q));
+      const auto s = at(q);
+      if constexpr ((kWhat & kMass) != 0) {
+        if (apic_) {
+          const M mC = P.mass[p] * P.affine_velocity[p];
+          mass_load_[s] = {P.mass[p], P.mass[p] * P.v[p] - mC * anchor[p]};
+          affine_momentum_[s] = mC;
+        } else {
+          mass_load_[s] = {P.mass[p], P.mass[p] * P.v[p]};
+        }
+      }
+      if constexpr ((kWhat & kForce) != 0) {
+        ForceLoad& l = force_load_[s];
+        l.stress_volume = -P.volume[p] * P.stress[p].template topLeftCorner<Dim, Dim>();
+        l.body = P.external_force[p] + P.mass[p] * g;
+        if constexpr (Axisymmetric)
+          l.hoop = P.volume[p] * P.stress[p](2, 2) / radius_n_[p];
+      }
     });
   }
 
-  // Internal force -sum V sigma grad(N) plus external point forces, gravity and tractions.
-  void gather_forces() {
-    const auto& P = scene_.particles;
-    const V g = head<Dim>(scene_.spec.gravity);
+  // P2G as a gather over the nodes (each node sums its points in the map's fixed order, so the
+  // result does not depend on the thread count). Mass, momentum and force share one pass where
+  // the scheme allows (USL, MUSL): one visit, and one weight and gradient, per point and node.
+  // Tractions are added after the gather.
+  template <int kWhat> void gather() {
+    fill_loads<kWhat>(scene_.particles.x);
     parallel_for(node_count(), [&](Index n) {
-      V f = V::Zero();
-      map_.for_each_particle_of(n, [&](Index p, double w, const V& grad) {
-        const auto s = at(p);
-        const M sigma = P.stress[s].template topLeftCorner<Dim, Dim>();
-        f -= P.volume[s] * (sigma * grad);
-        if constexpr (Axisymmetric)
-          f[0] -= P.volume[s] * P.stress[s](2, 2) * w / radius_n_[s];
-        f += w * (P.external_force[s] + P.mass[s] * g);
-      });
-      force_[at(n)] = f;
+      double m = 0;
+      V mv = V::Zero(), f = V::Zero();
+      M mC = M::Zero();
+      auto add = [&](Index q, double w, [[maybe_unused]] const V& grad) {
+        const auto s = at(q);
+        if constexpr ((kWhat & kMass) != 0) {
+          m += w * mass_load_[s].m;
+          mv += w * mass_load_[s].mv;
+          if (apic_)
+            mC += w * affine_momentum_[s];
+        }
+        if constexpr ((kWhat & kForce) != 0) {
+          const ForceLoad& l = force_load_[s];
+          f += l.stress_volume * grad + w * l.body;
+          if constexpr (Axisymmetric)
+            f[0] -= w * l.hoop;
+        }
+      };
+      if constexpr ((kWhat & kForce) != 0)
+        map_.for_each_slot_of(n, add);
+      else
+        map_.for_each_slot_weight_of(n, [&](Index q, double w) { add(q, w, V::Zero()); });
+      if constexpr ((kWhat & kMass) != 0) {
+        mass_[at(n)] = m;
+        momentum_[at(n)] = apic_ ? V(mv + mC * node_position(n)) : mv;
+      }
+      if constexpr ((kWhat & kForce) != 0)
+        force_[at(n)] = f;
     });
-    for (const SurfaceLoad<Dim>& load : scene_.surface_loads)
-      for_each_surface_load_node<Dim>(map_.nodes(), P, load, map_.stencil(load.particle).start,
-                                      Shape::kWidth,
-                                      [&](Index n, double w) { force_[at(n)] += w * load.force; });
+    if constexpr ((kWhat & kForce) != 0)
+      for (const SurfaceLoad<Dim>& load : scene_.surface_loads)
+        for_each_surface_load_node<Dim>(
+            map_.nodes(), scene_.particles, load, map_.stencil(load.particle).start, Shape::kWidth,
+            [&](Index n, double w) { force_[at(n)] += w * load.force; });
   }
 
   void constrain(Index n, V& vec) const {
@@ -177,33 +237,34 @@ private:
   // them. In 3D, where a node's weight is a product of three, that made the rigid translation's
   // stress 1e-11 E and the colliding spheres' momentum drift 1e-12 (4.5e-14 and 8e-16 now).
   void grid_velocity_from_momentum() {
-    for (Index n = 0; n < node_count(); ++n) {
+    parallel_for(node_count(), [&](Index n) {
       if (mass_[at(n)] <= 0.0) {
         velocity_[at(n)].setZero();
-        continue;
+        return;
       }
       velocity_[at(n)] = momentum_[at(n)] / mass_[at(n)];
       constrain(n, velocity_[at(n)]);
-    }
+    });
   }
 
   // a = f / m with constraints; the reaction on a constrained component is what holds it: -f.
   void grid_acceleration(double dt) {
     for (auto& r : reactions_)
       r.setZero();
-    for (Index n = 0; n < node_count(); ++n) {
-      const auto s = at(n);
+    for (const Index n : reaction_nodes_)
       for (int d = 0; d < Dim; ++d)
-        if (const int face = reaction_face_[s][static_cast<std::size_t>(d)]; face >= 0)
-          reactions_[static_cast<std::size_t>(face)][d] -= force_[s][d];
+        if (const int face = reaction_face_[at(n)][static_cast<std::size_t>(d)]; face >= 0)
+          reactions_[static_cast<std::size_t>(face)][d] -= force_[at(n)][d];
+    parallel_for(node_count(), [&](Index n) {
+      const auto s = at(n);
       if (mass_[s] <= 0.0) {
         acceleration_[s].setZero();
-        continue;
+        return;
       }
       acceleration_[s] = force_[s] / mass_[s];
       constrain(n, acceleration_[s]);
       velocity_[s] += dt * acceleration_[s];
-    }
+    });
   }
 
   // FLIP/PIC blend of the particle velocity, or APIC's velocity and affine matrix; positions
@@ -212,13 +273,15 @@ private:
     auto& P = scene_.particles;
     if (apic_) {
       old_x_.resize(at(P.size()));
-      parallel_for(P.size(), [&](Index p) { apic_update(p, dt); });
+      parallel_for(P.size(), [&](Index q) { apic_update(q, dt); });
       return;
     }
     const double flip = scene_.spec.solver.flip;
-    parallel_for(P.size(), [&](Index p) {
+    // The G2P loops run over the slots, which reads the stencils in order.
+    parallel_for(P.size(), [&](Index q) {
+      const Index p = map_.point_at_slot(q);
       V a = V::Zero(), v_new = V::Zero();
-      map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+      map_.for_each_node_weight_of_slot(q, [&](Index n, double w) {
         a += w * acceleration_[at(n)];
         v_new += w * velocity_[at(n)];
       });
@@ -234,12 +297,12 @@ private:
   // a node (D_dd -> 0); there the affine part in that direction is dropped. CPDI's D_p is full:
   // the mean over the corners of the hats' moment at the corner plus (x_c - x_p)(x_c - x_p)^T,
   // at least J J^T (J = F diag(lp0)), so it is regular while det F > 0.
-  void apic_update(Index p, double dt) {
+  void apic_update(Index q, double dt) {
     auto& P = scene_.particles;
-    const auto s = at(p);
+    const auto s = at(map_.point_at_slot(q));
     V v_new = V::Zero();
     M B = M::Zero();
-    map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+    map_.for_each_node_weight_of_slot(q, [&](Index n, double w) {
       v_new += w * velocity_[at(n)];
       B += w * velocity_[at(n)] * (node_position(n) - P.x[s]).transpose();
     });
@@ -248,13 +311,13 @@ private:
     if constexpr (!tensor_product<Shape>()) {
       // CPDI: D_p = sum w (x_i - x_p)(x_i - x_p)^T is a full matrix (the sheared voxel).
       M D = M::Zero();
-      map_.for_each_node_of(p, [&](Index n, double w, const V&) {
+      map_.for_each_node_weight_of_slot(q, [&](Index n, double w) {
         const V r = node_position(n) - P.x[s];
         D += w * r * r.transpose();
       });
       C = B * D.inverse();
     } else {
-      const auto& st = map_.stencil(p);
+      const auto& st = map_.stencil_of_slot(q);
       for (int d = 0; d < Dim; ++d) {
         double second_moment = 0;
         for (int a = 0; a < Shape::kWidth; ++a) {
@@ -278,19 +341,21 @@ private:
   // velocity, for a spin C_p v_p = -omega^2 (x_p - c), a spurious radial expansion
   // dt omega^2 (x - c) whose gradient dt omega^2 I entered L and F every step.
   void remap_velocity() {
-    const auto& P = scene_.particles;
+    fill_loads<kMass>(old_x_);
     parallel_for(node_count(), [&](Index n) {
       if (mass_[at(n)] <= 0.0) {
         velocity_[at(n)].setZero();
         return;
       }
       V mv = V::Zero();
-      const V xi = node_position(n);
-      map_.for_each_particle_of(n, [&](Index p, double w, const V&) {
-        const V v =
-            apic_ ? V(P.v[at(p)] + P.affine_velocity[at(p)] * (xi - old_x_[at(p)])) : P.v[at(p)];
-        mv += (w * P.mass[at(p)]) * v;
+      M mC = M::Zero();
+      map_.for_each_slot_weight_of(n, [&](Index q, double w) {
+        mv += w * mass_load_[at(q)].mv;
+        if (apic_)
+          mC += w * affine_momentum_[at(q)];
       });
+      if (apic_)
+        mv += mC * node_position(n);
       velocity_[at(n)] = mv / mass_[at(n)];
       constrain(n, velocity_[at(n)]);
     });
@@ -307,10 +372,11 @@ private:
   // ten revolutions (now 0.4 %, with the angular momentum kept to 1e-3; stability_rotation).
   void update_kinematics_and_stress(double dt) {
     auto& P = scene_.particles;
-    parallel_for(P.size(), [&](Index p) {
+    parallel_for(P.size(), [&](Index q) {
+      const Index p = map_.point_at_slot(q);
       M L = M::Zero();
       [[maybe_unused]] double v_r = 0; // the radial velocity at the point (axisymmetry)
-      map_.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+      map_.for_each_node_of_slot(q, [&](Index n, double w, const V& grad) {
         L += velocity_[at(n)] * grad.transpose();
         if constexpr (Axisymmetric)
           v_r += w * velocity_[at(n)][0];
@@ -341,8 +407,13 @@ private:
   std::vector<V> momentum_, force_, velocity_, acceleration_;
   std::vector<std::uint8_t> held_;                          ///< per node: FaceConditions::held
   std::vector<std::array<std::int8_t, Dim>> reaction_face_; ///< per node and component
+  std::vector<Index> reaction_nodes_; ///< the nodes with a reaction face, ascending
+  std::vector<double> wave_speed_;    ///< per material: the stable step's wave speed
   std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
-  std::vector<double> radius_n_; // axisymmetry: the points' radii at the start of the step
+  std::vector<MassLoad> mass_load_;   ///< per slot: what the mass and momentum gather reads
+  std::vector<M> affine_momentum_;    ///< per slot (APIC): m C
+  std::vector<ForceLoad> force_load_; ///< per slot: what the force gather reads
+  std::vector<double> radius_n_;      // axisymmetry: the points' radii at the start of the step
   FaceReactions reactions_{};
   bool apic_ = false;
 };

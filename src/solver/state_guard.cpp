@@ -1,5 +1,7 @@
 #include "talus/solver/state_guard.hpp"
 
+#include "talus/core/parallel.hpp"
+
 #include <cmath>
 #include <fmt/format.h>
 
@@ -34,37 +36,62 @@ std::string StateViolation::describe() const {
   return fmt::format("{} = {:g} {} at {}", field, value, condition, where);
 }
 
-template <int Dim> std::optional<StateViolation> find_particle_violation(const Particles<Dim>& P) {
+namespace {
+
+/// Point s's first violation, in the order the step computes the fields, so the report names
+/// the earliest symptom.
+template <int Dim>
+std::optional<StateViolation> particle_violation_at(const Particles<Dim>& P, std::size_t s) {
   constexpr const char* kNotFinite = "is not finite";
-  for (std::size_t s = 0; s < P.x.size(); ++s) {
-    // Fields in the order the step computes them, so the report names the earliest symptom.
-    if (const auto bad = non_finite_component(P.v[s]))
-      return particle_violation(P, s, "velocity", *bad, kNotFinite);
-    if (const auto bad = non_finite_component(P.x[s]))
-      return particle_violation(P, s, "position", *bad, kNotFinite);
-    if (const auto bad = non_finite_component(P.F[s]))
-      return particle_violation(P, s, "F", *bad, kNotFinite);
-    const double J = P.F[s].determinant();
-    if (!(J > 0.0))
-      return particle_violation(P, s, "det F", J, "<= 0 (inverted or collapsed point)");
-    if (J < kCollapsedVolumeRatio)
-      return particle_violation(P, s, "det F", J,
-                                "< 1e-4 (collapsed point: under a hundredth of its spacing)");
-    if (const auto bad = non_finite_component(P.stress[s]))
-      return particle_violation(P, s, "stress", *bad, kNotFinite);
-  }
+  if (const auto bad = non_finite_component(P.v[s]))
+    return particle_violation(P, s, "velocity", *bad, kNotFinite);
+  if (const auto bad = non_finite_component(P.x[s]))
+    return particle_violation(P, s, "position", *bad, kNotFinite);
+  if (const auto bad = non_finite_component(P.F[s]))
+    return particle_violation(P, s, "F", *bad, kNotFinite);
+  const double J = P.F[s].determinant();
+  if (!(J > 0.0))
+    return particle_violation(P, s, "det F", J, "<= 0 (inverted or collapsed point)");
+  if (J < kCollapsedVolumeRatio)
+    return particle_violation(P, s, "det F", J,
+                              "< 1e-4 (collapsed point: under a hundredth of its spacing)");
+  if (const auto bad = non_finite_component(P.stress[s]))
+    return particle_violation(P, s, "stress", *bad, kNotFinite);
   return std::nullopt;
+}
+
+/// The same tests as particle_violation_at without building a report: the per-step pass.
+template <int Dim> bool particle_is_bad(const Particles<Dim>& P, std::size_t s) {
+  const double J = P.F[s].determinant();
+  return !P.v[s].allFinite() || !P.x[s].allFinite() || !P.F[s].allFinite() ||
+         !(J >= kCollapsedVolumeRatio) || !P.stress[s].allFinite();
+}
+
+} // namespace
+
+template <int Dim> std::optional<StateViolation> find_particle_violation(const Particles<Dim>& P) {
+  const Index first = parallel_find_first(
+      P.size(), [&](Index p) { return particle_is_bad(P, static_cast<std::size_t>(p)); });
+  if (first < 0)
+    return std::nullopt;
+  return particle_violation_at(P, static_cast<std::size_t>(first));
 }
 
 template <int Dim>
 std::optional<StateViolation> find_node_violation(const ActiveNodes<Dim>& nodes,
                                                   std::span<const Vec<Dim>> field,
                                                   const char* field_name) {
-  for (Index n = 0; n < nodes.size(); ++n)
-    if (const auto bad = non_finite_component(field[static_cast<std::size_t>(n)]))
-      return StateViolation{field_name, true, nodes.lattice_id(n), padded<Dim>(nodes.position(n)),
-                            Dim,        *bad, "is not finite"};
-  return std::nullopt;
+  const Index n = parallel_find_first(
+      nodes.size(), [&](Index k) { return !field[static_cast<std::size_t>(k)].allFinite(); });
+  if (n < 0)
+    return std::nullopt;
+  return StateViolation{field_name,
+                        true,
+                        nodes.lattice_id(n),
+                        padded<Dim>(nodes.position(n)),
+                        Dim,
+                        *non_finite_component(field[static_cast<std::size_t>(n)]),
+                        "is not finite"};
 }
 
 template <int Dim>

@@ -20,6 +20,11 @@ public:
     grid_ = grid;
     ids_ = std::move(lattice_ids);
   }
+  /// assign() that hands the previous ids' storage back in `lattice_ids` (for reuse).
+  void exchange(const Grid<Dim>& grid, std::vector<Index>& lattice_ids) {
+    grid_ = grid;
+    ids_.swap(lattice_ids);
+  }
 
   const Grid<Dim>& grid() const { return grid_; }
   Index size() const { return static_cast<Index>(ids_.size()); }

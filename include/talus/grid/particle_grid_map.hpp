@@ -5,10 +5,13 @@
 // indexed by that number). Both transfer directions are loops over this map:
 //   for_each_node_of(p, f)     particle -> its W^Dim nodes    (G2P, velocity gradients)
 //   for_each_particle_of(n, f) node -> the particles it sees  (P2G as a deterministic gather)
+// The stencils are stored bin by bin ("slots": slot q holds point point_at_slot(q)), so that a
+// node's gather reads them, and any per-slot array a solver builds, in one sweep of memory.
 // Nothing here is sized by the grid: bins exist for the stencil starts that hold points, and
 // the links between bins and nodes are kept per stencil row (W consecutive nodes along x, which
 // are consecutive in the node numbering too): W^(Dim-1) numbers per bin and per node.
 #include "talus/core/errors.hpp"
+#include "talus/core/parallel.hpp"
 #include "talus/core/particles.hpp"
 #include "talus/core/radix_sort.hpp"
 #include "talus/grid/active_nodes.hpp"
@@ -52,59 +55,92 @@ public:
   void update(const Grid<Dim>& grid, const Particles<Dim>& particles) {
     grid_ = &grid;
     const Index np = particles.size();
-    stencils_.resize(static_cast<std::size_t>(np));
     start_id_.resize(static_cast<std::size_t>(np));
     const double h = grid.cell_size();
-    for (Index p = 0; p < np; ++p) {
-      const auto s = static_cast<std::size_t>(p);
-      const Vec<Dim>& x = particles.x[s];
-      if (!grid.inside(x))
-        throw NumericalError(
-            fmt::format("particle {} left the grid: position ({:g})", p, fmt::join(x, ", ")));
-      Stencil& st = stencils_[s];
-      if constexpr (tensor_product<Shape>()) {
+    // The lowest-index offender is named, whatever the thread count.
+    const Index outside = parallel_find_first(
+        np, [&](Index p) { return !grid.inside(particles.x[static_cast<std::size_t>(p)]); });
+    if (outside >= 0)
+      throw NumericalError(
+          fmt::format("particle {} left the grid: position ({:g})", outside,
+                      fmt::join(particles.x[static_cast<std::size_t>(outside)], ", ")));
+    if constexpr (tensor_product<Shape>() && Shape::kDomainFollowsStretch) {
+      const Index wide = parallel_find_first(np, [&](Index p) {
+        return !fits_stencil(domain_half_widths<Dim, Shape>(particles, static_cast<std::size_t>(p)),
+                             h);
+      });
+      if (wide >= 0)
+        throw_domain_too_wide(
+            wide, domain_half_widths<Dim, Shape>(particles, static_cast<std::size_t>(wide)), h);
+    }
+    if constexpr (tensor_product<Shape>()) {
+      // The first nodes, then the bins, then the values straight into their slots.
+      parallel_for(np, [&](Index p) {
+        const auto s = static_cast<std::size_t>(p);
         const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
-        if constexpr (Shape::kDomainFollowsStretch)
-          check_domain(p, lp, h);
+        std::array<Index, Dim> start{};
+        for (int d = 0; d < Dim; ++d)
+          start[d] = Shape::start(particles.x[s][d] - grid.origin()[d], h, lp[d], grid.cells(d));
+        start_id_[s] = grid.node_id(start);
+      });
+      bin_points(np);
+      stencils_.resize(static_cast<std::size_t>(np));
+      parallel_for(np, [&](Index q) {
+        const auto s = static_cast<std::size_t>(point_at_slot(q));
+        const Vec<Dim> lp = domain_half_widths<Dim, Shape>(particles, s);
+        Stencil& st = stencils_[static_cast<std::size_t>(q)];
         for (int d = 0; d < Dim; ++d) {
-          const double xr = x[d] - grid.origin()[d];
+          const double xr = particles.x[s][d] - grid.origin()[d];
           st.start[d] = Shape::start(xr, h, lp[d], grid.cells(d));
           Shape::eval(xr, h, lp[d], grid.cells(d), st.start[d], st.N[d].data(), st.dN[d].data());
         }
-      } else {
-        std::array<Index, Dim> cells{};
-        for (int d = 0; d < Dim; ++d)
-          cells[d] = grid.cells(d);
-        Shape::template fill<Dim>(p, x - grid.origin(), particles.grid_F(s),
-                                  particles.half_size0[s], h, cells, st);
-      }
-      start_id_[s] = grid.node_id(st.start);
+      });
+    } else {
+      // CPDI finds its first node with its weights: computed in point order, then moved.
+      by_point_.resize(static_cast<std::size_t>(np));
+      std::array<Index, Dim> cells{};
+      for (int d = 0; d < Dim; ++d)
+        cells[d] = grid.cells(d);
+      parallel_for(np, [&](Index p) {
+        const auto s = static_cast<std::size_t>(p);
+        Shape::template fill<Dim>(p, particles.x[s] - grid.origin(), particles.grid_F(s),
+                                  particles.half_size0[s], h, cells, by_point_[s]);
+        start_id_[s] = grid.node_id(by_point_[s].start);
+      });
+      bin_points(np);
+      stencils_.resize(static_cast<std::size_t>(np));
+      parallel_for(np, [&](Index q) {
+        stencils_[static_cast<std::size_t>(q)] =
+            by_point_[static_cast<std::size_t>(point_at_slot(q))];
+      });
     }
-    bin_points(np);
     activate_nodes();
   }
 
   /// The nodes that carry state this step; node numbers index every per-node array.
   const ActiveNodes<Dim>& nodes() const { return nodes_; }
   Index node_count() const { return nodes_.size(); }
-  const Stencil& stencil(Index p) const { return stencils_[static_cast<std::size_t>(p)]; }
+  const Stencil& stencil(Index p) const { return stencils_[slot(p)]; }
+  const Stencil& stencil_of_slot(Index q) const { return stencils_[static_cast<std::size_t>(q)]; }
+  /// The point in slot q (slots: the points bin by bin, the order of every gather).
+  Index point_at_slot(Index q) const { return bin_particles_[static_cast<std::size_t>(q)]; }
 
   /// f(node, weight, gradient) for every node of particle p's stencil.
   template <class F> void for_each_node_of(Index p, F&& f) const {
-    const Stencil& st = stencils_[static_cast<std::size_t>(p)];
-    const std::int32_t b = bin_of_point_[static_cast<std::size_t>(p)];
-    for (int k = 0; k < kStencilSize; ++k) {
-      const auto local = digits(k);
-      double w;
-      Vec<Dim> grad;
-      weight(st, local, w, grad);
-      f(Index{bin_rows_[row_link(b, k / W)]} + k % W, w, grad);
-    }
+    visit_nodes_of<true>(static_cast<Index>(slot(p)), f);
+  }
+  /// The same for the point in slot q: a loop over the slots reads the stencils in order.
+  template <class F> void for_each_node_of_slot(Index q, F&& f) const {
+    visit_nodes_of<true>(q, f);
+  }
+  /// f(node, weight): for_each_node_of_slot without the gradients.
+  template <class F> void for_each_node_weight_of_slot(Index q, F&& f) const {
+    visit_nodes_of<false>(q, [&](Index n, double w, const Vec<Dim>&) { f(n, w); });
   }
 
   /// The nodes of particle p's stencil, in the order for_each_node_of visits them.
   std::array<Index, kStencilSize> stencil_nodes(Index p) const {
-    const std::int32_t b = bin_of_point_[static_cast<std::size_t>(p)];
+    const std::int32_t b = bin_of_slot_[slot(p)];
     std::array<Index, kStencilSize> nodes{};
     for (int k = 0; k < kStencilSize; ++k)
       nodes[static_cast<std::size_t>(k)] = Index{bin_rows_[row_link(b, k / W)]} + k % W;
@@ -114,6 +150,38 @@ public:
   /// f(particle, weight, gradient) for every particle whose stencil contains `node`, in a
   /// fixed order (bin by bin, particles in ascending index).
   template <class F> void for_each_particle_of(Index node, F&& f) const {
+    visit_particles_of<true>(
+        node, [&](Index q, double w, const Vec<Dim>& grad) { f(point_at_slot(q), w, grad); });
+  }
+  /// f(particle, weight): for_each_particle_of without the gradients.
+  template <class F> void for_each_particle_weight_of(Index node, F&& f) const {
+    visit_particles_of<false>(node,
+                              [&](Index q, double w, const Vec<Dim>&) { f(point_at_slot(q), w); });
+  }
+  /// for_each_particle_of naming each point by its slot: f(slot, weight, gradient).
+  template <class F> void for_each_slot_of(Index node, F&& f) const {
+    visit_particles_of<true>(node, f);
+  }
+  /// f(slot, weight): for_each_slot_of without the gradients.
+  template <class F> void for_each_slot_weight_of(Index node, F&& f) const {
+    visit_particles_of<false>(node, [&](Index q, double w, const Vec<Dim>&) { f(q, w); });
+  }
+
+private:
+  template <bool kGradient, class F> void visit_nodes_of(Index q, F&& f) const {
+    const Stencil& st = stencils_[static_cast<std::size_t>(q)];
+    const std::int32_t b = bin_of_slot_[static_cast<std::size_t>(q)];
+    for (int k = 0; k < kStencilSize; ++k) {
+      const auto local = digits(k);
+      double w;
+      Vec<Dim> grad;
+      weight<kGradient>(st, local, w, grad);
+      f(Index{bin_rows_[row_link(b, k / W)]} + k % W, w, grad);
+    }
+  }
+
+  /// f(slot, weight, gradient) for every point whose stencil contains `node`.
+  template <bool kGradient, class F> void visit_particles_of(Index node, F&& f) const {
     const auto ijk = nodes_.ijk(node);
     const Index id = nodes_.lattice_id(node);
     for (int r = 0; r < kRows; ++r) {
@@ -133,26 +201,31 @@ public:
           break;
         for (Index q = bin_offset_[static_cast<std::size_t>(b)];
              q < bin_offset_[static_cast<std::size_t>(b) + 1]; ++q) {
-          const Index p = bin_particles_[static_cast<std::size_t>(q)];
           double w;
           Vec<Dim> grad;
-          weight(stencils_[static_cast<std::size_t>(p)], local, w, grad);
-          f(p, w, grad);
+          weight<kGradient>(stencils_[static_cast<std::size_t>(q)], local, w, grad);
+          f(q, w, grad);
         }
       }
     }
   }
 
-private:
   /// A domain that follows the stretch must stay within the stencil's reach.
-  static void check_domain(Index p, const Vec<Dim>& lp, double h) {
+  static bool fits_stencil(const Vec<Dim>& lp, double h) {
     for (int d = 0; d < Dim; ++d)
       if (!(lp[d] <= Shape::kMaxHalfWidthInCells * h))
-        throw NumericalError(fmt::format(
-            "particle {}'s {} domain is wider than its stencil reaches: half-width {:g} along "
-            "axis {}, more than {:g} cell size(s) of {:g}; split stretched points (a body's "
-            "'split' block) or start with more particles per cell",
-            p, Shape::kName, lp[d], d, Shape::kMaxHalfWidthInCells, h));
+        return false;
+    return true;
+  }
+  [[noreturn]] static void throw_domain_too_wide(Index p, const Vec<Dim>& lp, double h) {
+    int d = 0;
+    while (d + 1 < Dim && lp[d] <= Shape::kMaxHalfWidthInCells * h)
+      ++d;
+    throw NumericalError(fmt::format(
+        "particle {}'s {} domain is wider than its stencil reaches: half-width {:g} along "
+        "axis {}, more than {:g} cell size(s) of {:g}; split stretched points (a body's "
+        "'split' block) or start with more particles per cell",
+        p, Shape::kName, lp[d], d, Shape::kMaxHalfWidthInCells, h));
   }
 
   /// Stencil rows: W^(Dim-1) lines of W nodes along x.
@@ -179,14 +252,17 @@ private:
         bin_particles_, [&](Index p) { return start_id_[static_cast<std::size_t>(p)]; }, scratch_);
     bin_start_id_.clear();
     bin_offset_.clear();
-    bin_of_point_.resize(static_cast<std::size_t>(np));
+    bin_of_slot_.resize(static_cast<std::size_t>(np));
+    slot_of_point_.resize(static_cast<std::size_t>(np));
     for (Index q = 0; q < np; ++q) {
       const auto p = static_cast<std::size_t>(bin_particles_[static_cast<std::size_t>(q)]);
+      slot_of_point_[p] = q;
       if (bin_start_id_.empty() || start_id_[p] != bin_start_id_.back()) {
         bin_start_id_.push_back(start_id_[p]);
         bin_offset_.push_back(q);
       }
-      bin_of_point_[p] = static_cast<std::int32_t>(bin_start_id_.size() - 1);
+      bin_of_slot_[static_cast<std::size_t>(q)] =
+          static_cast<std::int32_t>(bin_start_id_.size() - 1);
     }
     bin_offset_.push_back(np);
   }
@@ -197,7 +273,8 @@ private:
   // active nodes. The W nodes of a stencil row are consecutive lattice ids, all active, hence
   // consecutive node numbers: a row is known by its first node.
   void activate_nodes() {
-    std::vector<Index> ids(bin_start_id_.begin(), bin_start_id_.end());
+    std::vector<Index>& ids = node_ids_;
+    ids.assign(bin_start_id_.begin(), bin_start_id_.end());
     Index stride = 1;
     for (int d = 0; d < Dim; ++d) {
       dilate(ids, stride, scratch_);
@@ -235,7 +312,7 @@ private:
         node_rows_[row_link(static_cast<Index>(m), r)] = last;
       }
     }
-    nodes_.assign(*grid_, std::move(ids));
+    nodes_.exchange(*grid_, ids); // ids keeps the previous step's storage for the next
   }
 
   /// out = the distinct values of {x + j stride : x in sorted, 0 <= j < W}, ascending.
@@ -267,15 +344,20 @@ private:
     return k;
   }
 
-  /// The weight and gradient of the stencil node at offsets a from its first node.
+  /// The weight and (with kGradient) the gradient of the stencil node at offsets a from its
+  /// first node.
+  template <bool kGradient>
   static void weight(const Stencil& st, const std::array<int, Dim>& a, double& w, Vec<Dim>& grad) {
     if constexpr (!tensor_product<Shape>()) {
       w = st.w[static_cast<std::size_t>(flat(a))];
-      grad = st.grad[static_cast<std::size_t>(flat(a))];
+      if constexpr (kGradient)
+        grad = st.grad[static_cast<std::size_t>(flat(a))];
     } else {
       w = 1.0;
       for (int d = 0; d < Dim; ++d)
         w *= st.N[d][static_cast<std::size_t>(a[d])];
+      if constexpr (!kGradient)
+        return;
       for (int d = 0; d < Dim; ++d) {
         double g = st.dN[d][static_cast<std::size_t>(a[d])];
         for (int e = 0; e < Dim; ++e)
@@ -286,17 +368,23 @@ private:
     }
   }
 
+  std::size_t slot(Index p) const {
+    return static_cast<std::size_t>(slot_of_point_[static_cast<std::size_t>(p)]);
+  }
+
   const Grid<Dim>* grid_ = nullptr;
-  std::vector<Stencil> stencils_;
-  std::vector<Index> start_id_;            ///< per point: lattice id of its stencil's first node
-  std::vector<Index> bin_particles_;       ///< the points, bin by bin
-  std::vector<Index> bin_offset_;          ///< per bin: where its points start (one more entry)
-  std::vector<Index> bin_start_id_;        ///< per bin: lattice id of its first node, ascending
-  std::vector<std::int32_t> bin_of_point_; ///< per point: its bin
-  std::array<Index, kRows> row_shift_{};   ///< lattice id offset of each stencil row's first node
-  std::vector<std::int32_t> bin_rows_;     ///< per bin and row: node number of the row's first node
-  std::vector<std::int32_t> node_rows_;    ///< per node and row: the last bin at or before it, -1
-  std::vector<Index> scratch_;
+  std::vector<Stencil> by_point_;         ///< CPDI: the stencils as computed, in point order
+  std::vector<Stencil> stencils_;         ///< the same, slot by slot (bin order)
+  std::vector<Index> slot_of_point_;      ///< per point: its slot
+  std::vector<Index> start_id_;           ///< per point: lattice id of its stencil's first node
+  std::vector<Index> bin_particles_;      ///< the points, bin by bin
+  std::vector<Index> bin_offset_;         ///< per bin: where its points start (one more entry)
+  std::vector<Index> bin_start_id_;       ///< per bin: lattice id of its first node, ascending
+  std::vector<std::int32_t> bin_of_slot_; ///< per slot: its bin
+  std::array<Index, kRows> row_shift_{};  ///< lattice id offset of each stencil row's first node
+  std::vector<std::int32_t> bin_rows_;    ///< per bin and row: node number of the row's first node
+  std::vector<std::int32_t> node_rows_;   ///< per node and row: the last bin at or before it, -1
+  std::vector<Index> scratch_, node_ids_; // reused step to step: no allocation once sized
   ActiveNodes<Dim> nodes_;
 };
 

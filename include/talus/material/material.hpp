@@ -90,12 +90,10 @@ public:
   double stored_energy(std::span<const Index> ids, std::span<const Mat3> F,
                        std::span<const double> volume0) const final {
     const auto& law = static_cast<const Law&>(*this);
-    double sum = 0;
-    for (const Index p : ids) {
-      const auto s = static_cast<std::size_t>(p);
-      sum += volume0[s] * law.Law::energy_density(F[s]);
-    }
-    return sum;
+    return parallel_sum(static_cast<Index>(ids.size()), [&](Index k) {
+      const auto s = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
+      return volume0[s] * law.Law::energy_density(F[s]);
+    });
   }
   void response(std::span<const Index> ids, std::span<const Mat3> F,
                 std::span<StressTangent> out) final {

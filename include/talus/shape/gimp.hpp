@@ -26,27 +26,35 @@ struct GimpShape {
   }
   /// Value and derivative of the uGIMP function for distance r = x_p - x_i.
   static void value(double r, double h, double lp, double& N, double& dN) {
+    value(r, h, lp, 1.0 / h, 1.0 / (h * lp), N, dN);
+  }
+  static void eval(double x, double h, double lp, Index /*cells*/, Index start, double* N,
+                   double* dN) {
+    // The reciprocals once per point and axis: divisions dominated the map's update.
+    const double inv_h = 1.0 / h, inv_hlp = 1.0 / (h * lp);
+    for (int a = 0; a < kWidth; ++a)
+      value(x - h * static_cast<double>(start + a), h, lp, inv_h, inv_hlp, N[a], dN[a]);
+  }
+
+private:
+  static void value(double r, double h, double lp, double inv_h, double inv_hlp, double& N,
+                    double& dN) {
     const double ar = std::abs(r);
     const double sign = r >= 0 ? 1.0 : -1.0;
     if (ar < lp) {
-      N = 1.0 - (r * r + lp * lp) / (2.0 * h * lp);
-      dN = -r / (h * lp);
+      N = 1.0 - 0.5 * (r * r + lp * lp) * inv_hlp;
+      dN = -r * inv_hlp;
     } else if (ar < h - lp) {
-      N = 1.0 - ar / h;
-      dN = -sign / h;
+      N = 1.0 - ar * inv_h;
+      dN = -sign * inv_h;
     } else if (ar < h + lp) {
       const double s = h + lp - ar;
-      N = s * s / (4.0 * h * lp);
-      dN = -sign * s / (2.0 * h * lp);
+      N = 0.25 * s * s * inv_hlp;
+      dN = -0.5 * sign * s * inv_hlp;
     } else {
       N = 0.0;
       dN = 0.0;
     }
-  }
-  static void eval(double x, double h, double lp, Index /*cells*/, Index start, double* N,
-                   double* dN) {
-    for (int a = 0; a < kWidth; ++a)
-      value(x - h * static_cast<double>(start + a), h, lp, N[a], dN[a]);
   }
 };
 
