@@ -136,7 +136,8 @@ template <int Dim> struct Recorder {
   bool frame_at_current_step = true;
   Index last_frame_step = 0;
   double last_frame_time = 0;
-  double post_seconds = 0; ///< stress recovery and voxels, the frames' post-processing
+  double post_seconds = 0;  ///< stress recovery and voxels, the frames' post-processing
+  double frame_seconds = 0; ///< writing frames, post-processing included
   std::optional<StressRecovery<Dim>> recovery{}; ///< made on the first frame, reused after
   Voxels<Dim> voxels{};
   std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
@@ -166,6 +167,8 @@ template <int Dim> struct Recorder {
       post.plastic_strain = &plastic_strain;
     }
     writer.write_frame<Dim>(step, stage_start_time + t, scene.particles, out.fields, post);
+    frame_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     frame_at_current_step = true;
     last_frame_step = step;
     last_frame_time = stage_start_time + t;

@@ -7,6 +7,10 @@
 // Every run is a child process `talus run <verification/case.yaml> --set ...` so that its peak
 // resident set size (ru_maxrss from wait4) belongs to that run alone; the wall time is the
 // child's own run_case time (summary.json "wall_seconds"), so process start-up is not counted.
+//
+// `--case explicit_throughput` is the explicit step's speed instead (throughput_bench.cpp):
+// particle-steps per second of the stepping loop against points, threads and dimension, with
+// the memory per point, into throughput.csv and throughput.png.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -14,7 +18,7 @@
 namespace talus {
 
 struct BenchOptions {
-  std::string case_name;         ///< "cantilever" or "vibrating_bar"
+  std::string case_name;         ///< one of bench_cases()
   std::filesystem::path out_dir; ///< empty: results/bench/<case>
   int repeats = 3;               ///< runs per configuration; at least 3
   bool quick = false;            ///< drop the finest resolution
@@ -32,5 +36,9 @@ std::vector<std::string> bench_cases();
 /// "failed"). Throws InputError for an unknown case or repeats < 3, std::runtime_error when the
 /// plot script fails.
 int run_bench(const BenchOptions& options);
+
+/// `--case explicit_throughput` (called by run_bench; options.threads is not used: the threads
+/// are part of the sweep).
+int run_throughput_bench(const BenchOptions& options);
 
 } // namespace talus

@@ -1,0 +1,33 @@
+#pragma once
+// Child runs of the benchmarks: `talus run ...` as its own process, so that its peak resident
+// set (ru_maxrss from wait4) belongs to that run alone, and what the benchmarks read back.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace talus::bench_detail {
+
+struct ChildResult {
+  int exit_code = 0;
+  double max_rss_mb = 0;
+};
+
+/// Runs `program args...` with stdout and stderr into `log`; returns its exit code (128 +
+/// signal when killed) and its peak resident set (ru_maxrss, KiB on Linux).
+ChildResult spawn_and_wait(const std::filesystem::path& program,
+                           const std::vector<std::string>& args, const std::filesystem::path& log);
+
+std::string read_text(const std::filesystem::path& file);
+
+/// The child's error message: its last "talus: ..." line, else its last non-empty line.
+std::string failure_message(const std::filesystem::path& log, int exit_code);
+
+double median(std::vector<double> v);
+
+/// `format` of v, or "-" when v is not finite (table cells).
+std::string cell(double v, const char* format);
+
+/// A CSV field: v with 6 significant digits, empty when not finite.
+std::string csv_number(double v);
+
+} // namespace talus::bench_detail
