@@ -134,9 +134,12 @@ int fos_command(const std::string& case_file, const std::vector<std::string>& ov
   options.threads = threads;
   const FosRunResult r = run_factor_of_safety(spec, options);
   if (r.fos.bracketed)
-    fmt::print("{}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]), {} trials, {} Newton "
+    fmt::print("{}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]), {} {}, {} Newton "
                "iterations, {:.2f} s ({:.2f} s of CPU) -> {}\n",
                spec.name, r.fos.value(), r.fos.lower, r.fos.upper, r.fos.trials.size(),
+               spec.strength_reduction->mode == StrengthReductionMode::Incremental
+                   ? "reduction steps in one run"
+                   : "trials",
                r.newton_iterations, r.wall_seconds, r.cpu_seconds, r.out_dir.string());
   else
     fmt::print(stderr, "talus: {}: no factor of safety: {} -> {}\n", spec.name, r.fos.message,

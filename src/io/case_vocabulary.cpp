@@ -33,12 +33,10 @@ const Choices<MaterialModel>& material_model_choices() {
 }
 
 const Choices<ShapeFunction>& shape_function_choices() {
-  static const Choices<ShapeFunction> c{{"gimp", ShapeFunction::Gimp},
-                                        {"linear", ShapeFunction::Linear},
-                                        {"cpgimp", ShapeFunction::CpGimp},
-                                        {"bspline2", ShapeFunction::BSpline2},
-                                        {"bspline3", ShapeFunction::BSpline3},
-                                        {"cpdi", ShapeFunction::Cpdi}};
+  static const Choices<ShapeFunction> c{
+      {"gimp", ShapeFunction::Gimp},         {"linear", ShapeFunction::Linear},
+      {"cpgimp", ShapeFunction::CpGimp},     {"bspline2", ShapeFunction::BSpline2},
+      {"bspline3", ShapeFunction::BSpline3}, {"cpdi", ShapeFunction::Cpdi}};
   return c;
 }
 
@@ -51,6 +49,13 @@ const Choices<UpdateScheme>& update_scheme_choices() {
 const Choices<TransferScheme>& transfer_scheme_choices() {
   static const Choices<TransferScheme> c{{"flip", TransferScheme::Flip},
                                          {"apic", TransferScheme::Apic}};
+  return c;
+}
+
+const Choices<StrengthReductionMode>& strength_reduction_mode_choices() {
+  static const Choices<StrengthReductionMode> c{
+      {"trials", StrengthReductionMode::Trials},
+      {"incremental", StrengthReductionMode::Incremental}};
   return c;
 }
 

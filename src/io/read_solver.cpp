@@ -244,7 +244,7 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
 
 StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
   const Map m(*this, it,
-              {"lower", "upper", "tolerance", "max_trials", "probe", "displacement_limit"});
+              {"lower", "upper", "tolerance", "max_trials", "probe", "displacement_limit", "mode"});
   StrengthReductionSpec s;
   s.where = locate(m.self());
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
@@ -282,6 +282,8 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
          "no probe named '" + shown(s.probe) + "' (the crest probe must be listed in 'probes')");
   if (m.has("displacement_limit"))
     s.displacement_limit = positive(m["displacement_limit"]);
+  if (m.has("mode"))
+    s.mode = choice(m["mode"], strength_reduction_mode_choices());
   return s;
 }
 

@@ -279,7 +279,14 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
     fmt::print("{}\n", line);
     std::fflush(stdout);
   };
-  result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial);
+  if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
+    result.fos = incremental_factor_of_safety(spec, result.out_dir / kTrialsDir / "incremental",
+                                              options.threads, interrupted);
+    for (const StrengthTrial& t : result.fos.trials)
+      log << fmt::format("step F = {:.6f}: {}\n", t.factor, t.reason);
+  } else {
+    result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial);
+  }
   if (interrupted) {
     result.fos.bracketed = false;
     result.fos.message = "interrupted";
@@ -290,9 +297,8 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   result.exit_code = interrupted ? kExitOther : result.fos.bracketed ? kExitOk : kExitNumerical;
-  log << fmt::format("# {}; {} Newton iterations in {} trials, {:.2f} s ({:.2f} s of CPU)\n",
-                     result.fos.message, result.newton_iterations, result.fos.trials.size(),
-                     result.wall_seconds, result.cpu_seconds);
+  log << fmt::format("# {}; {} Newton iterations, {:.2f} s ({:.2f} s of CPU)\n", result.fos.message,
+                     result.newton_iterations, result.wall_seconds, result.cpu_seconds);
   write_fos_csv(result.out_dir / "fos.csv", result.fos);
   write_fos_json(result.out_dir / "fos.json", spec, result);
   run_python_script("plot_fos.py",

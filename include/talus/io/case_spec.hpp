@@ -29,6 +29,9 @@ enum class UpdateScheme { USL, USF, MUSL };
 /// Particle-grid velocity transfer: FLIP/PIC blend, or APIC (Jiang et al. 2015), which carries
 /// an affine velocity per particle so affine fields such as a rigid spin transfer exactly.
 enum class TransferScheme { Flip, Apic };
+/// How `talus fos` searches: independent trials from scratch, bisected, or one run that loads
+/// the case and then lowers the strength step by step from the loaded state.
+enum class StrengthReductionMode { Trials, Incremental };
 enum class MaterialModel {
   LinearElastic,
   NeoHookean,
@@ -293,6 +296,7 @@ struct StrengthReductionSpec {
   /// displacement jump of a mechanism that re-stabilises after large movement). None: only
   /// Newton failure at the smallest load step counts.
   std::optional<double> displacement_limit;
+  StrengthReductionMode mode = StrengthReductionMode::Trials;
   SourceLocation where;
 };
 

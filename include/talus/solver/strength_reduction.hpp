@@ -67,6 +67,14 @@ FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
                                        const std::function<StrengthTrial(double)>& trial,
                                        const std::function<void(const StrengthTrial&)>& on_trial);
 
+/// The incremental search (strength_reduction.mode: incremental,
+/// src/solver/incremental_strength_reduction.cpp): one run into `dir` that loads the case at
+/// F = lower and then lowers the strength step by step from the loaded state. Its "trials" are
+/// the run's steps (the factor each reached and the crest there), the last one the failure;
+/// the run's Newton iterations, cut-backs and time are on the last row.
+FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::filesystem::path& dir,
+                                            int threads, bool& interrupted);
+
 struct FosOptions {
   std::filesystem::path out_dir; ///< empty: results/<case name>-fos
   bool force = false;            ///< replace the files of an earlier search in out_dir

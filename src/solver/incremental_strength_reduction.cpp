@@ -1,0 +1,203 @@
+// Strength reduction in one run (strength_reduction.mode: incremental). The case is loaded at
+// F = lower, as a trial would be; then quasi-static stages move F linearly, from lower to upper
+// and on by half while the slope stands, each point keeping its stress and plastic history. A
+// step that Newton cannot converge (at a quarter of the nominal step) or after which the crest
+// has moved beyond the limit ends the run: the factor of safety lies between the factor of the
+// last standing step and the factor of the one that failed. The nominal step moves F by at
+// most `tolerance`, so that bracket is within the tolerance by construction.
+//
+// Why: independent trials load the slope from scratch for every factor, and those that fail
+// spend most of the search's time descending their cut-back ladders (Griffiths & Lane's slope:
+// 85 % of 15 s). One loading and one failure cost about one failing trial. The answer is that of
+// a different loading path, which a non-associated material may remember: docs/case-format.md
+// gives both modes' answers and costs on the same slope.
+#include "talus/solver/strength_reduction.hpp"
+
+#include "talus/core/errors.hpp"
+#include "talus/io/csv.hpp"
+#include "talus/solver/run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+namespace talus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The factor F along the run's time: the loading stage holds `lower`; ramp j (from 1) spans
+/// [load_end + j - 1, load_end + j] and moves F from factors[j - 1] to factors[j].
+struct FactorPath {
+  double load_end = 0;
+  std::vector<double> factors; ///< factors[0] = lower, then each ramp's end
+  std::vector<double> min_dt;  ///< per ramp (index j - 1)
+
+  double at(double time) const {
+    if (time <= load_end)
+      return factors.front();
+    const double s = time - load_end;
+    const auto ramps = static_cast<double>(factors.size() - 1);
+    const double j = std::min(std::floor(s), ramps - 1); // ramp j + 1, 0-based j
+    const auto k = static_cast<std::size_t>(j);
+    return factors[k] + (factors[k + 1] - factors[k]) * std::min(s - j, 1.0);
+  }
+  /// The smallest step of the ramp that a step starting at `time` belongs to.
+  double min_step_after(double time) const {
+    const double s = std::max(time - load_end, 0.0);
+    const auto j = std::min(static_cast<std::size_t>(std::floor(s + 1e-12)), min_dt.size() - 1);
+    return min_dt[j];
+  }
+};
+
+/// The staged case: the loading at F = lower, then ramps to upper, 1.5 upper, ... (as many as
+/// the trials search would try), each in steps moving F by at most `tolerance`.
+CaseSpec staged_case(const CaseSpec& spec, FactorPath& path) {
+  const StrengthReductionSpec& settings = *spec.strength_reduction;
+  CaseSpec staged = spec;
+  staged.strength_reduction.reset();
+  StageSpec load;
+  load.name = "load";
+  load.analysis = AnalysisType::ImplicitQuasistatic;
+  load.time = spec.time;
+  load.strength_factor = settings.lower;
+  staged.stages.push_back(load);
+  path.load_end = spec.time.end_time;
+  path.factors = {settings.lower};
+  double factor = settings.upper;
+  for (int j = 1; j < settings.max_trials; ++j, factor *= 1.5) {
+    const double span = factor - path.factors.back();
+    StageSpec ramp;
+    ramp.name = fmt::format("reduce_{}", j);
+    ramp.analysis = AnalysisType::ImplicitQuasistatic;
+    ramp.strength_factor = factor;
+    // A power of two so that the steps land on the stage's end; a quarter of it for the
+    // cut-backs of a hard step.
+    const double dt = std::exp2(-std::ceil(std::log2(span / settings.tolerance)));
+    ramp.time.end_time = 1.0;
+    ramp.time.dt = std::min(dt, 1.0);
+    ramp.time.min_dt = *ramp.time.dt / 4.0;
+    ramp.time.max_steps = static_cast<Index>(8.0 / *ramp.time.min_dt);
+    staged.stages.push_back(ramp);
+    path.factors.push_back(factor);
+    path.min_dt.push_back(*ramp.time.min_dt);
+  }
+  return staged;
+}
+
+} // namespace
+
+FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path& dir, int threads,
+                                            bool& interrupted) {
+  const StrengthReductionSpec& settings = *spec.strength_reduction;
+  FactorPath path;
+  const CaseSpec staged = staged_case(spec, path);
+  RunOptions options;
+  options.out_dir = dir;
+  options.threads = threads;
+  options.progress = true; // one long run: the user sees it advance
+  if (settings.displacement_limit)
+    options.stop_after_step = [&](std::span<const ProbeState> probes,
+                                  double time) -> std::optional<std::string> {
+      const auto crest = std::find_if(probes.begin(), probes.end(), [&](const ProbeState& p) {
+        return p.name == settings.probe;
+      });
+      const double moved = (crest->current - crest->initial).norm();
+      if (moved <= *settings.displacement_limit)
+        return std::nullopt;
+      return fmt::format("crest moved {:.4g} m > limit {:g} m at F = {:.6g}", moved,
+                         *settings.displacement_limit, path.at(time));
+    };
+  FactorOfSafety fos;
+  StrengthTrial last;
+  RunResult run;
+  try {
+    run = run_case(staged, options);
+  } catch (const InputError& e) { // the reduced strength refused the initial stress
+    last.factor = settings.lower;
+    last.failed = true;
+    last.reason = fmt::format("failed before the first step: {}", e.what());
+    fos.trials.push_back(last);
+    fos.upper = settings.lower;
+    fos.message = "the lowest factor fails before the first step";
+    return fos;
+  }
+  interrupted = run.status == "interrupted";
+  // One row per converged step of the ramps: the factor and where the crest stood.
+  const CsvTable series = read_csv(dir / "timeseries.csv");
+  const auto& time = series.column("time");
+  const auto& x = series.column(settings.probe + ".x");
+  const auto& y = series.column(settings.probe + ".y");
+  for (std::size_t r = 0; r < series.rows(); ++r) {
+    if (time[r] < path.load_end * (1.0 - 1e-12) && r + 1 < series.rows())
+      continue; // the loading's intermediate steps
+    StrengthTrial step;
+    step.factor = path.at(time[r]);
+    step.load_reached = 1.0;
+    step.load_steps = 1;
+    step.crest_dx = x[r] - x.front();
+    step.crest_dy = y[r] - y.front();
+    step.reason = fmt::format("stood: crest moved {:.4g} m", step.crest_displacement());
+    fos.trials.push_back(step);
+  }
+  const auto stat = [&](const char* key) {
+    const auto it = run.extra.find(key);
+    return it == run.extra.end() ? Index{0} : static_cast<Index>(it->second);
+  };
+  const bool loaded = run.final_time >= path.load_end * (1.0 - 1e-12);
+  StrengthTrial& end = fos.trials.back();
+  end.newton_iterations = stat("newton_iterations");
+  end.cutbacks = stat("cutbacks");
+  end.seconds = run.wall_seconds;
+  end.load_steps = run.steps;
+  if (run.status == "completed") {
+    fos.lower = end.factor;
+    fos.message = fmt::format("stood up to F = {:g}: the factor of safety is above the path; "
+                              "raise strength_reduction.upper",
+                              end.factor);
+    return fos;
+  }
+  if (interrupted) {
+    end.reason = "interrupted";
+    fos.message = "interrupted";
+    return fos;
+  }
+  if (!loaded) {
+    end.failed = true;
+    end.load_reached = run.final_time / path.load_end;
+    end.reason =
+        fmt::format("failed during the loading at F = {:g}: {}", settings.lower, run.message);
+    fos.upper = settings.lower;
+    fos.message = fmt::format("the lowest factor F = {:g} already fails: the factor of safety is "
+                              "below the search range; lower strength_reduction.lower",
+                              settings.lower);
+    return fos;
+  }
+  if (run.status == "stopped") { // the crest limit after the last converged step
+    end.failed = true;
+    end.reason = "failed: " + run.message;
+    fos.upper = end.factor;
+    fos.lower = fos.trials.size() > 1 ? fos.trials[fos.trials.size() - 2].factor : settings.lower;
+  } else { // Newton at the smallest step (or another numerical stop) after the last row
+    StrengthTrial failed = end;
+    end.newton_iterations = end.cutbacks = 0;
+    end.seconds = 0;
+    end.load_steps = 1;
+    failed.failed = true;
+    failed.factor = path.at(run.final_time + path.min_step_after(run.final_time));
+    failed.reason = "failed: " + run.message;
+    fos.lower = end.factor;
+    fos.upper = failed.factor;
+    fos.trials.push_back(failed);
+  }
+  fos.bracketed = fos.upper - fos.lower <= settings.tolerance * (1.0 + 1e-9);
+  fos.message = fmt::format(
+      "bracket [{:.4g}, {:.4g}]{} in one incremental run ({} steps)", fos.lower, fos.upper,
+      fos.bracketed ? fmt::format(" within the tolerance {:g}", settings.tolerance)
+                    : fmt::format(", wider than the tolerance {:g}", settings.tolerance),
+      run.steps);
+  return fos;
+}
+
+} // namespace talus
