@@ -17,11 +17,14 @@ while [ $# -gt 0 ]; do
   esac
 done
 
+# libopenblas0-serial becomes the BLAS and LAPACK that CHOLMOD and UMFPACK call (Debian's
+# alternatives; the reference BLAS otherwise): a beam tangent of 4068 unknowns factors in 3.6 ms
+# instead of 7.6. The serial flavour keeps BLAS threads from competing with OpenMP's.
 # python3-paraview brings ParaView's VTK with the XDMF readers the tests open run.xmf with
 # (Debian's python3-vtk9 has none); it replaces python3-vtk9.
 packages=(
   build-essential cmake pkg-config git
-  libeigen3-dev libsuitesparse-dev libsundials-dev
+  libeigen3-dev libsuitesparse-dev libsundials-dev libopenblas0-serial
   trilinos-all-dev libopenmpi-dev openmpi-bin
   libhdf5-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev

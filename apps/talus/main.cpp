@@ -109,13 +109,14 @@ int check_command(const std::string& case_file, const std::vector<std::string>& 
 }
 
 int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
-                const std::string& out, bool force, int threads) {
+                const std::string& out, bool force, int threads, const std::string& dump_tangent) {
   const CaseSpec spec = read_case_file(case_file, overrides);
   warn_if_memory_is_short(spec);
   RunOptions options;
   options.out_dir = out;
   options.force = force;
   options.threads = threads;
+  options.dump_tangent = dump_tangent;
   const RunResult r = run_case(spec, options);
   fmt::print("{}: {} — {} steps to t = {:g}, {} frames, {} particles, {:.2f} s -> {}\n", spec.name,
              r.status, r.steps, r.final_time, r.frames, r.particles, r.wall_seconds,
@@ -197,6 +198,9 @@ int main(int argc, char** argv) {
   run->add_flag("--force", force, "Replace the results of an earlier run in the directory");
   run->add_option("--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
+  std::string dump_tangent;
+  run->add_option("--dump-tangent", dump_tangent,
+                  "Implicit runs: write the last Newton tangent to this file (Matrix Market)");
 
   auto* fos = app.add_subcommand(
       "fos", "Factor of safety by strength reduction (c / F, tan phi / F, bisection on F); "
@@ -297,7 +301,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run)
-      return run_command(case_file, overrides, out_dir, force, threads);
+      return run_command(case_file, overrides, out_dir, force, threads, dump_tangent);
     if (*fos)
       return fos_command(case_file, overrides, out_dir, force, threads);
     if (*adapt) {

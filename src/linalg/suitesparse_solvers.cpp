@@ -8,8 +8,10 @@
 #include "talus/linalg/linear_solver.hpp"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <klu.h>
+#include <omp.h>
 #include <umfpack.h>
 
 #include <algorithm>
@@ -19,6 +21,49 @@
 
 namespace talus {
 namespace {
+
+/// While alive, every OpenMP parallel region runs on the calling thread alone, and so does
+/// OpenBLAS when it is the BLAS in use. Debian's CHOLMOD opens a parallel region of 4 threads
+/// (its CHOLMOD_OMP_NUM_THREADS) for each large enough supernode to copy values; on 2 cores,
+/// with waiting threads asleep, waking them thousands of times per factorisation cost more than
+/// the factorisation (a 4068-unknown beam tangent: 41 ms of wall time for 13 ms of CPU, 1000
+/// context switches per factorisation; serial 3.6 ms). OpenBLAS must follow: its OpenMP build
+/// waits for workers that a serial region never starts. The supernodes of our 2D and mid-size
+/// 3D tangents are too small for threaded BLAS to pay; the large 3D systems go to MueLu.
+class SerialThreads {
+public:
+  SerialThreads() : levels_(omp_get_max_active_levels()), omp_threads_(omp_get_max_threads()) {
+    omp_set_max_active_levels(0);
+    if (blas_.set != nullptr) {
+      blas_threads_ = blas_.get();
+      blas_.set(1);
+    }
+  }
+  ~SerialThreads() {
+    if (blas_.set != nullptr)
+      blas_.set(blas_threads_);
+    omp_set_num_threads(omp_threads_); // OpenBLAS's OpenMP build sets OpenMP's count too
+    omp_set_max_active_levels(levels_);
+  }
+  SerialThreads(const SerialThreads&) = delete;
+  SerialThreads& operator=(const SerialThreads&) = delete;
+
+private:
+  /// OpenBLAS's thread controls, when the process's BLAS is OpenBLAS (any Debian flavour).
+  struct OpenBlas {
+    int (*get)() = nullptr;
+    void (*set)(int) = nullptr;
+  };
+  static OpenBlas find_openblas() {
+    OpenBlas b;
+    b.get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    if (b.get != nullptr)
+      b.set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    return b;
+  }
+  static inline const OpenBlas blas_ = find_openblas();
+  int levels_, omp_threads_, blas_threads_ = 1;
+};
 
 /// Common bookkeeping: the compressed copy of A, call-order and pattern checks, true residual.
 class DirectSolver : public LinearSolver {
@@ -36,20 +81,25 @@ protected:
     A_ = A;
     A_.makeCompressed();
   }
-  /// factorize(): takes the new values, which must come with the analysed pattern.
+  /// factorize(): takes the new values, which must come with the analysed pattern. A
+  /// compressed A (the assembler's) gives only its values: no allocation, no pattern copy.
   void store_values(const SparseMatrix& A) {
     if (!analyzed_) {
       throw std::logic_error(name() + ": factorize() before analyze()");
     }
     factorized_ = false;
-    SparseMatrix copy = A;
-    copy.makeCompressed();
-    if (!same_sparsity_pattern(copy, A_)) {
+    if (!A.isCompressed()) {
+      SparseMatrix compressed = A;
+      compressed.makeCompressed();
+      store_values(compressed);
+      return;
+    }
+    if (!same_sparsity_pattern(A, A_)) {
       throw std::invalid_argument(name() +
                                   ": factorize() with a sparsity pattern that differs from the "
                                   "one given to analyze()");
     }
-    A_ = std::move(copy);
+    std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), A_.valuePtr());
   }
   void check_solve(const Eigen::VectorXd& b) const {
     if (!factorized_) {
@@ -118,7 +168,10 @@ public:
   void factorize(const SparseMatrix& A) override {
     store_values(A);
     cholmod_sparse view = sparse_view();
-    cholmod_factorize(&view, L_, &common_);
+    {
+      const SerialThreads serial;
+      cholmod_factorize(&view, L_, &common_);
+    }
     if (common_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
       throw NumericalError(fmt::format("cholmod: matrix is not positive definite (Cholesky "
                                        "breaks down at column {} of {})",

@@ -107,7 +107,7 @@ StressTangent hencky_response(const Mat3& F, const LameParameters& lame) {
       const double ratio = d > 0.0 ? std::log1p(d) / d : 1.0;
       theta(a, b) = theta(b, a) = lame.mu / lo * ratio;
     }
-  r.dtau_dF = isotropic_function_derivative(s.vectors, D, theta) * left_cauchy_green_derivative(F);
+  r.dtau_dF = isotropic_function_of_b_derivative(s.vectors, D, theta, F);
   return r;
 }
 

@@ -19,12 +19,13 @@ template <int kDofs>
 using PointStiffness = std::conditional_t<(kDofs * kDofs * sizeof(double) > 64 * 1024),
                                           Eigen::MatrixXd, Eigen::Matrix<double, kDofs, kDofs>>;
 
-/// K = V0 B^T A B for a stencil of kNodes nodes: grads their weight gradients, hoop their
-/// N / r_n (axisymmetry; unused otherwise). K must be Dim kNodes square.
+/// K += V0 B^T A B for a stencil of kNodes nodes: grads their weight gradients, hoop their
+/// N / r_n (axisymmetry; unused otherwise). K must be Dim kNodes square. Adding lets the points
+/// that share a stencil sum into one block before it goes into the sparse matrix.
 template <int Dim, bool Axisymmetric, int kNodes, class Matrix>
-void point_stiffness(const Eigen::Matrix<double, Dim, kNodes>& grads,
-                     const Eigen::Matrix<double, 1, kNodes>& hoop,
-                     const StepTangent<Dim, Axisymmetric>& A, double V0, Matrix& K) {
+void add_point_stiffness(const Eigen::Matrix<double, Dim, kNodes>& grads,
+                         const Eigen::Matrix<double, 1, kNodes>& hoop,
+                         const StepTangent<Dim, Axisymmetric>& A, double V0, Matrix& K) {
   using Components = StepComponents<Dim, Axisymmetric>;
   constexpr int kDofs = Dim * kNodes;
   Eigen::Matrix<double, Components::kCount, kDofs> AB;
@@ -42,7 +43,7 @@ void point_stiffness(const Eigen::Matrix<double, Dim, kNodes>& grads,
         if constexpr (Axisymmetric)
           if (a == 0)
             v += hoop[i] * AB(Components::kHoop, col);
-        K(Dim * i + a, col) = V0 * v;
+        K(Dim * i + a, col) += V0 * v;
       }
 }
 

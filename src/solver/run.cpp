@@ -21,6 +21,7 @@
 #include <cmath>
 #include <csignal>
 #include <fmt/format.h>
+#include <fstream>
 #include <omp.h>
 #include <optional>
 
@@ -121,6 +122,19 @@ void split_after_step(Scene<Dim>& scene, Solver& solver, RunResult& result) {
   result.extra["splits"] += static_cast<double>(splits);
 }
 
+/// Writes A in Matrix Market coordinate format (both triangles, 1-based).
+void write_matrix_market(const fs::path& file, const SparseMatrix& A) {
+  std::ofstream out(file);
+  out << "%%MatrixMarket matrix coordinate real general\n"
+      << A.rows() << ' ' << A.cols() << ' ' << A.nonZeros() << '\n';
+  out.precision(17);
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      out << it.row() + 1 << ' ' << c + 1 << ' ' << it.value() << '\n';
+  if (!out)
+    throw std::runtime_error("cannot write " + file.string());
+}
+
 /// Explicit dynamics: CFL or fixed steps until end_time.
 template <int Dim>
 void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
@@ -200,7 +214,7 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
 template <int Dim>
 void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
                   const fs::path& out_dir, StageWatch& watch, StageStrength<Dim>& strength,
-                  bool loads_ramp) {
+                  bool loads_ramp, const fs::path& dump_tangent) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
   result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
@@ -218,7 +232,6 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   if (!scene.spec.stages.empty())
     std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
                  scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
-  double assembly = 0, factorization = 0, solve = 0;
   Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
         max_iterations = 0;
   if (s.step == 0)
@@ -233,11 +246,12 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     x["linear_solves"] += static_cast<double>(linear_solves);
     x["linear_iterations"] += static_cast<double>(linear_iterations);
     x["cutbacks"] += static_cast<double>(cutbacks);
-    x["seconds_assembly"] += assembly;
-    x["seconds_factorization"] += factorization;
-    x["seconds_solve"] += solve;
-    x["seconds_particle_update"] += solver->seconds_particle_update();
+    const ImplicitTimings t = solver->timings();
+    for (const auto& [key, seconds] : implicit_phases(t))
+      x[key] += seconds;
     x["unknowns_last_step"] = static_cast<double>(solver->unknowns());
+    if (!dump_tangent.empty())
+      write_matrix_market(dump_tangent, solver->last_tangent());
   };
   try {
     while (s.t < time.end_time * (1.0 - 1e-14)) {
@@ -256,9 +270,6 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       strength.at(t_end / time.end_time);
       watch.before_step(scene.particles);
       const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
-      assembly += r.seconds_assembly;
-      factorization += r.seconds_factorization;
-      solve += r.seconds_solve;
       newton_iterations += r.iterations;
       linear_solves += r.linear_solves;
       linear_iterations += r.linear_iterations;
@@ -318,6 +329,19 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   }
   record_totals();
   rec.final_frame(s.step, s.t);
+}
+
+/// An implicit run's phases and output add up to its wall time: the rest (building the scene,
+/// the stepper, splitting) is `seconds_other`.
+void account_for_wall_time(RunResult& result, double output_seconds) {
+  auto& x = result.extra;
+  if (!x.contains("seconds_material"))
+    return;
+  x["seconds_output"] = output_seconds;
+  double accounted = output_seconds;
+  for (const auto& [key, seconds] : implicit_phases(ImplicitTimings{}))
+    accounted += x[key];
+  x["seconds_other"] = result.wall_seconds - accounted;
 }
 
 /// The stages a run goes through: the case's, or one made of its analysis and time.
@@ -453,7 +477,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
         strength.at(1.0);
         run_explicit(scene, recorder, state, result, watch);
       } else {
-        run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0);
+        run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0,
+                     options.dump_tangent);
       }
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);
@@ -514,6 +539,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   result.frames = writer.frames_written();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  account_for_wall_time(result, recorder.frame_seconds);
   Progress(spec.name, 0, options.progress)
       .finish(result.status == "completed"
                   ? fmt::format("done: {} steps, {} frames, {:.2f} s", state.step, result.frames,

@@ -64,7 +64,9 @@ public:
     J_.makeCompressed();
     return J_;
   }
-  bool pattern_changed() const override { return false; }
+  // The pattern never changes: one analysis serves every solve.
+  bool pattern_changed() const override { return !analysed_; }
+  void pattern_analysed() override { analysed_ = true; }
   const Eigen::VectorXd& exact() const { return exact_; }
   double force_scale() const { return f_.lpNorm<Eigen::Infinity>(); }
   void reject_states_above(double limit) { admissible_limit_ = limit; }
@@ -77,6 +79,7 @@ private:
   }
   int n_;
   double h_;
+  bool analysed_ = false;
   Eigen::VectorXd f_, exact_;
   SparseMatrix J_;
   double admissible_limit_ = 0;

@@ -43,7 +43,8 @@ struct SpectralDecomposition {
 };
 
 /// Eigen-decomposition of the symmetric tensor A (only its lower triangle is read). Uses the
-/// iterative (QR) solver, accurate also for nearly repeated eigenvalues.
+/// iterative (QR) solver, accurate also for nearly repeated eigenvalues; a tensor whose third
+/// axis is uncoupled (plane strain, axisymmetry) gets the 2 x 2 block's rotation in closed form.
 SpectralDecomposition spectral_decomposition(const Mat3& A);
 
 /// sum_a f(a) n_a n_a^T: the tensor with principal values f in the eigenbasis of `s`.
@@ -72,6 +73,12 @@ Mat9 isotropic_function_derivative(const SpectralDecomposition& s, const Vec3& f
 
 /// Same, with the divided differences theta (symmetric, diagonal ignored) supplied by the caller.
 Mat9 isotropic_function_derivative(const Mat3& eigenvectors, const Mat3& df_dx, const Mat3& theta);
+
+/// d T / d F of the isotropic function T(b) of the left Cauchy-Green tensor b = F F^T, with the
+/// eigenvectors of b, df_dx and theta as above: isotropic_function_derivative(...) times
+/// left_cauchy_green_derivative(F), without forming either.
+Mat9 isotropic_function_of_b_derivative(const Mat3& eigenvectors, const Mat3& df_dx,
+                                        const Mat3& theta, const Mat3& F);
 
 /// d b / d F for the left Cauchy-Green tensor b = F F^T:
 /// (3*i + j, 3*k + l) -> delta_ik F_jl + F_il delta_jk.

@@ -31,9 +31,36 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace talus {
+
+/// Wall time by phase, summed over a solver's steps (summary.json `seconds_*`). The phases do
+/// not overlap; with the stepping loop's other work (output, splitting, the stepper) they add up
+/// to the loop's time.
+struct ImplicitTimings {
+  double step_setup = 0;        ///< per step: connectivity, unknowns, loads, ghost faces
+  double material = 0;          ///< per iterate: dF, F and the material's response
+  double residual_assembly = 0; ///< per iterate: nodal forces from the points' stresses
+  double tangent_assembly = 0;  ///< per iterate: point blocks into the matrix (structure too)
+  double analysis = 0;          ///< linear solver: symbolic analyses
+  double factorization = 0;     ///< linear solver: numeric factorisations (preconditioners)
+  double solve = 0;             ///< linear solver: solves
+  double commit = 0;            ///< per step: moving the points with the converged increment
+};
+
+/// The phases under their summary.json keys (seconds_step_setup, seconds_material, ...).
+inline std::array<std::pair<const char*, double>, 8> implicit_phases(const ImplicitTimings& t) {
+  return {{{"seconds_step_setup", t.step_setup},
+           {"seconds_material", t.material},
+           {"seconds_residual_assembly", t.residual_assembly},
+           {"seconds_tangent_assembly", t.tangent_assembly},
+           {"seconds_analysis", t.analysis},
+           {"seconds_factorization", t.factorization},
+           {"seconds_solve", t.solve},
+           {"seconds_commit", t.commit}}};
+}
 
 class ImplicitSolver {
 public:
@@ -49,7 +76,10 @@ public:
   virtual std::vector<Vec3> prescribed_reactions() const = 0;
   virtual Index active_nodes() const = 0;
   virtual Index unknowns() const = 0;
-  virtual double seconds_particle_update() const = 0;
+  virtual ImplicitTimings timings() const = 0;
+  /// The tangent of the last Newton iteration (empty before the first): `talus run
+  /// --dump-tangent` writes it for benchmarking the linear solver on a real system.
+  virtual const SparseMatrix& last_tangent() const = 0;
   /// The linear solver backend in use (the case's choice, or the automatic one), e.g. "umfpack".
   virtual std::string linear_solver() const = 0;
   /// The scene's points were added to (splitting, core/splitting.hpp) after a converged step:

@@ -20,9 +20,11 @@ public:
   virtual bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) = 0;
   /// The Jacobian dR/dx at x, called after residual(x).
   virtual const SparseMatrix& jacobian(const Eigen::VectorXd& x) = 0;
-  /// True when the Jacobian's sparsity pattern differs from the previous one, so the linear
-  /// solver must redo its symbolic analysis.
+  /// True when the Jacobian's sparsity pattern differs from the one the linear solver was last
+  /// analysed for (by any earlier solve), so it must redo its symbolic analysis.
   virtual bool pattern_changed() const = 0;
+  /// Called once the linear solver has analysed the current Jacobian's pattern.
+  virtual void pattern_analysed() = 0;
 };
 
 struct NewtonOptions {
@@ -51,7 +53,8 @@ struct NewtonReport {
   std::vector<double> abandoned_history;
   bool abandoned_line_search = false; ///< the abandoned attempt was the line search
   std::string message;                ///< KINSOL's reason when not converged
-  double seconds_assembly = 0, seconds_factorization = 0, seconds_solve = 0, seconds_residual = 0;
+  /// Wall time inside the linear solver: symbolic analyses, numeric factorisations, solves.
+  double seconds_analysis = 0, seconds_factorization = 0, seconds_solve = 0;
 };
 
 /// Solves R(x) = 0 from the initial guess in x (overwritten with the solution).

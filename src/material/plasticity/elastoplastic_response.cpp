@@ -122,8 +122,7 @@ StressTangent elastoplastic_response(const PlasticModel& model, Kinematics kind,
         const double ratio = d > 0.0 ? std::log1p(d) / d : 1.0;
         theta(a, b) = theta(b, a) = theta(a, b) * ratio / (2.0 * lo);
       }
-    out.dtau_dF = isotropic_function_derivative(t.frame.vectors, D, theta) *
-                  left_cauchy_green_derivative(t.FA);
+    out.dtau_dF = isotropic_function_of_b_derivative(t.frame.vectors, D, theta, t.FA);
     return out;
   }
 
