@@ -4,8 +4,8 @@
 //   BM_DumpedTangent/<solver>/factor_solve  numeric factorisation + one solve, the analysis done
 //                                           once outside the loop (a Newton iteration's share)
 //   BM_DumpedTangent/<solver>/analyze       the symbolic analysis alone
-// `talus bench --case newton_cost` runs them beside the Newton runs and compares the time per
-// Newton iteration with factor_solve. Without TALUS_TANGENT nothing is registered.
+// docs/performance.md compares the time per Newton iteration of the run that wrote the file
+// with factor_solve. Without TALUS_TANGENT nothing is registered.
 #include "talus/linalg/linear_solver.hpp"
 
 #include <benchmark/benchmark.h>

@@ -3,6 +3,7 @@
 #include "implicit_step_setup.hpp"
 #include "point_stiffness.hpp"
 #include "step_tangent.hpp"
+#include "talus/core/add_seconds.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
@@ -13,7 +14,6 @@
 #include "talus/solver/rigid_body_modes.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -26,21 +26,6 @@ namespace {
 
 // Newton's tolerance is never set below this multiple of the stress round-off force.
 constexpr double kRoundOffFloor = 100.0;
-
-using Clock = std::chrono::steady_clock;
-
-/// Adds the seconds from its construction to its destruction to `total`.
-class AddSeconds {
-public:
-  explicit AddSeconds(double& total) : total_(total) {}
-  ~AddSeconds() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
-  AddSeconds(const AddSeconds&) = delete;
-  AddSeconds& operator=(const AddSeconds&) = delete;
-
-private:
-  double& total_;
-  Clock::time_point start_ = Clock::now();
-};
 
 // Axisymmetric (Dim 2 only): x = r, y = z, volumes per radian; the step gradient gains the hoop
 // stretch dF33 = 1 + u_r / r_n (StepComponents), the internal force its term
@@ -396,7 +381,7 @@ private:
     group_by_stencil(share);
     const auto cliques = [&](auto&& f) {
       for (std::size_t g = 0; g + 1 < group_begin_.size(); ++g) {
-        const auto nodes = step_.map.stencil_nodes(grouped_points_[at(group_begin_[g])]);
+        const auto nodes = step_.map.stencil_nodes(point_of_group(static_cast<Index>(g)));
         f(std::span<const Index>(nodes));
       }
       if (f_bar_)
@@ -417,15 +402,15 @@ private:
     for (Index p = share.begin; p < share.end; ++p)
       stencil_points_.push_back({scene_.grid.node_id(step_.map.stencil(p).start), p});
     std::sort(stencil_points_.begin(), stencil_points_.end());
-    grouped_points_.clear();
     group_begin_.clear();
-    for (std::size_t i = 0; i < stencil_points_.size(); ++i) {
+    for (std::size_t i = 0; i < stencil_points_.size(); ++i)
       if (i == 0 || stencil_points_[i][0] != stencil_points_[i - 1][0])
         group_begin_.push_back(static_cast<Index>(i));
-      grouped_points_.push_back(stencil_points_[i][1]);
-    }
-    group_begin_.push_back(static_cast<Index>(grouped_points_.size()));
+    group_begin_.push_back(static_cast<Index>(stencil_points_.size()));
   }
+
+  /// The first point of group g (any of its points has the group's stencil).
+  Index point_of_group(Index g) const { return stencil_points_[at(group_begin_[at(g)])][1]; }
 
   // The share's tangent: per group of points with one stencil the sum of their dense blocks
   // K_p = V0 B^T A B (point_stiffness.hpp), computed in parallel a chunk of groups at a time and
@@ -453,7 +438,7 @@ private:
             Eigen::Matrix<double, Dim, kNodes> grads;
             Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
             for (Index e = group_begin_[at(first + i)]; e < group_begin_[at(first + i + 1)]; ++e) {
-              const Index p = grouped_points_[at(e)];
+              const Index p = stencil_points_[at(e)][1];
               const auto s = at(p);
               int k = 0;
               step_.map.for_each_node_of(p, [&](Index, double w, const V& grad) {
@@ -467,8 +452,7 @@ private:
           },
           8);
       for (Index i = 0; i < count; ++i) {
-        const auto nodes =
-            step_.map.stencil_nodes(grouped_points_[at(group_begin_[at(first + i)])]);
+        const auto nodes = step_.map.stencil_nodes(point_of_group(first + i));
         tangent.add_block(nodes, group_blocks_[at(i)]);
       }
     }
@@ -672,10 +656,10 @@ private:
     LatticeAssembler<Dim> assembler;
     Index step = -1, begin = -1, end = -1;
   };
-  std::vector<ShareTangent> share_tangents_;         ///< per share index (the serial solver: [0])
-  std::vector<std::array<Index, 2>> stencil_points_; ///< (stencil start, point), sorted
-  std::vector<Index> grouped_points_;                ///< the share's points, grouped by stencil
-  std::vector<Index> group_begin_; ///< where each group starts in grouped_points_, and the end
+  std::vector<ShareTangent> share_tangents_; ///< per share index (the serial solver: [0])
+  /// (stencil start, point) of the share's points, sorted: the points grouped by stencil.
+  std::vector<std::array<Index, 2>> stencil_points_;
+  std::vector<Index> group_begin_; ///< where each group starts in stencil_points_, and the end
   /// One chunk of groups' summed blocks (assemble_tangent).
   std::vector<PointStiffness<Dim * ParticleGridMap<Dim, Shape>::kStencilSize>> group_blocks_;
   Index step_count_ = 0;           ///< steps prepared so far

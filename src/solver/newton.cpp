@@ -1,8 +1,8 @@
 #include "talus/solver/newton.hpp"
 
+#include "talus/core/add_seconds.hpp"
 #include "talus/core/errors.hpp"
 
-#include <chrono>
 #include <exception>
 #include <fmt/format.h>
 #include <kinsol/kinsol.h>
@@ -14,11 +14,6 @@
 namespace talus {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
   return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
@@ -78,16 +73,14 @@ int ls_setup(SUNLinearSolver ls, SUNMatrix) {
   auto& d = driver_of(ls);
   try {
     if (d.system.pattern_changed()) {
-      const auto t0 = Clock::now();
+      const AddSeconds timer(d.report.seconds_analysis);
       d.linear.analyze(*d.jacobian);
       d.system.pattern_analysed();
       ++d.report.symbolic_analyses;
-      d.report.seconds_analysis += seconds_since(t0);
     }
-    const auto t0 = Clock::now();
+    const AddSeconds timer(d.report.seconds_factorization);
     d.linear.factorize(*d.jacobian);
     ++d.report.factorizations;
-    d.report.seconds_factorization += seconds_since(t0);
     return 0;
   } catch (...) {
     d.error = std::current_exception();
@@ -98,12 +91,11 @@ int ls_setup(SUNLinearSolver ls, SUNMatrix) {
 int ls_solve(SUNLinearSolver ls, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   auto& d = driver_of(ls);
   try {
-    const auto t0 = Clock::now();
+    const AddSeconds timer(d.report.seconds_solve);
     Eigen::VectorXd solution;
     d.report.linear_iterations += d.linear.solve(view(b), solution).iterations;
     view(x) = solution;
     ++d.report.linear_solves;
-    d.report.seconds_solve += seconds_since(t0);
     return 0;
   } catch (...) {
     d.error = std::current_exception();

@@ -29,7 +29,7 @@ struct RunOptions {
   int threads = 0;               ///< OpenMP threads; 0 keeps the OpenMP default
   bool progress = true;          ///< progress line (terminal) or periodic log lines
   /// Implicit runs: where to write the last Newton iteration's tangent (Matrix Market), for
-  /// timing the linear solver on a real system (`talus bench --case newton_cost`); empty: none.
+  /// timing the linear solver on a real system (bench/bench_dumped_tangent.cpp); empty: none.
   std::filesystem::path dump_tangent{};
   /// Called with the state a 2D (3D) run ended in (any status), before summary.json is
   /// written: lets a caller (talus adapt) inspect the points without reading the results back.
