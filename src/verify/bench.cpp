@@ -267,8 +267,9 @@ void print_table(const std::string& case_name, const std::vector<Row>& rows, dou
 } // namespace
 
 std::vector<std::string> bench_cases() {
-  return {"cantilever", "cantilever_large", "column_large_compression", "vibrating_bar",
-          "explicit_throughput"};
+  return {"cantilever",    "cantilever_large",    "column_large_compression",
+          "vibrating_bar", "explicit_throughput", "newton_cost",
+          "fos_cost"};
 }
 
 int run_bench(const BenchOptions& options) {
@@ -281,8 +282,17 @@ int run_bench(const BenchOptions& options) {
     throw InputError(
         {"--repeats", 0, 0, ""},
         fmt::format("at least 3 repeats are needed for a median (got {})", options.repeats));
+  if (!options.baseline.empty() && options.case_name != "newton_cost")
+    throw InputError({"--vs", 0, 0, ""}, "only --case newton_cost compares with another binary");
+  if (!options.baseline.empty() && !std::filesystem::is_regular_file(options.baseline))
+    throw InputError({"--vs", 0, 0, ""},
+                     fmt::format("'{}' is not a file", options.baseline.string()));
   if (options.case_name == "explicit_throughput")
     return run_throughput_bench(options);
+  if (options.case_name == "newton_cost")
+    return run_newton_cost_bench(options);
+  if (options.case_name == "fos_cost")
+    return run_fos_cost_bench(options);
   const fs::path data_dir = verification_dir();
   // The large-deflection beam is the cantilever scene with overrides (see sweep()).
   const std::string scene =

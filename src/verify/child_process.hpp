@@ -10,10 +10,12 @@ namespace talus::bench_detail {
 struct ChildResult {
   int exit_code = 0;
   double max_rss_mb = 0;
+  double wall_seconds = 0; ///< from spawn to exit: the whole process, start-up included
+  double cpu_seconds = 0;  ///< user + system time of the child (ru_utime + ru_stime)
 };
 
 /// Runs `program args...` with stdout and stderr into `log`; returns its exit code (128 +
-/// signal when killed) and its peak resident set (ru_maxrss, KiB on Linux).
+/// signal when killed), its peak resident set (ru_maxrss, KiB on Linux), its wall and CPU time.
 ChildResult spawn_and_wait(const std::filesystem::path& program,
                            const std::vector<std::string>& args, const std::filesystem::path& log);
 

@@ -10,7 +10,11 @@
 //
 // `--case explicit_throughput` is the explicit step's speed instead (throughput_bench.cpp):
 // particle-steps per second of the stepping loop against points, threads and dimension, with
-// the memory per point, into throughput.csv and throughput.png.
+// the memory per point, into throughput.csv and throughput.png. `--case newton_cost`
+// (newton_cost_bench.cpp) is an implicit Newton iteration's cost by phase against a bare
+// factorisation + solve of its own tangent (Google Benchmark), with memory per point, in 2D and
+// 3D, optionally side by side with an older binary (`--vs`). `--case fos_cost`
+// (fos_cost_bench.cpp) is the CPU and the bracket of each factor-of-safety mode.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,6 +30,8 @@ struct BenchOptions {
   /// timings comparable on a shared machine: with more threads than idle cores, OpenMP
   /// barriers wait on descheduled threads and small runs slow down by an order of magnitude.
   int threads = 1;
+  /// `--vs`: an older talus binary run alternately with this one (newton_cost only).
+  std::filesystem::path baseline;
 };
 
 /// The cases `talus bench --case` accepts.
@@ -40,5 +46,11 @@ int run_bench(const BenchOptions& options);
 /// `--case explicit_throughput` (called by run_bench; options.threads is not used: the threads
 /// are part of the sweep).
 int run_throughput_bench(const BenchOptions& options);
+
+/// `--case newton_cost` (called by run_bench).
+int run_newton_cost_bench(const BenchOptions& options);
+
+/// `--case fos_cost` (called by run_bench).
+int run_fos_cost_bench(const BenchOptions& options);
 
 } // namespace talus
