@@ -109,14 +109,9 @@ int check_command(const std::string& case_file, const std::vector<std::string>& 
 }
 
 int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
-                const std::string& out, bool force, int threads, const std::string& dump_tangent) {
+                RunOptions options) {
   const CaseSpec spec = read_case_file(case_file, overrides);
   warn_if_memory_is_short(spec);
-  RunOptions options;
-  options.out_dir = out;
-  options.force = force;
-  options.threads = threads;
-  options.dump_tangent = dump_tangent;
   const RunResult r = run_case(spec, options);
   fmt::print("{}: {} — {} steps to t = {:g}, {} frames, {} particles, {:.2f} s -> {}\n", spec.name,
              r.status, r.steps, r.final_time, r.frames, r.particles, r.wall_seconds,
@@ -127,12 +122,8 @@ int run_command(const std::string& case_file, const std::vector<std::string>& ov
 }
 
 int fos_command(const std::string& case_file, const std::vector<std::string>& overrides,
-                const std::string& out, bool force, int threads) {
+                const FosOptions& options) {
   const CaseSpec spec = read_case_file(case_file, overrides);
-  FosOptions options;
-  options.out_dir = out;
-  options.force = force;
-  options.threads = threads;
   const FosRunResult r = run_factor_of_safety(spec, options);
   if (r.fos.bracketed)
     fmt::print("{}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]), {} {}, {} Newton "
@@ -201,6 +192,17 @@ int main(int argc, char** argv) {
   std::string dump_tangent;
   run->add_option("--dump-tangent", dump_tangent,
                   "Implicit runs: write the last Newton tangent to this file (Matrix Market)");
+  std::string resume_dir;
+  bool accept_changes = false;
+  auto* resume =
+      run->add_option("--resume", resume_dir,
+                      "Continue the run in this directory from its newest valid checkpoint "
+                      "(output.checkpoint)");
+  resume->excludes(run->get_option("--force"))->excludes(run->get_option("--out"));
+  run->add_flag("--accept-changes", accept_changes,
+                "With --resume: accept a case changed in end times, max_steps, wall-time "
+                "limits or output")
+      ->needs(resume);
 
   auto* fos = app.add_subcommand(
       "fos", "Factor of safety by strength reduction (c / F, tan phi / F, bisection on F); "
@@ -210,6 +212,15 @@ int main(int argc, char** argv) {
   fos->add_option("--out", out_dir, "Output directory (default results/<case name>-fos)");
   fos->add_option("--set", overrides, "Override a case key (repeatable)");
   fos->add_flag("--force", force, "Replace the results of an earlier search in the directory");
+  auto* fos_resume =
+      fos->add_option("--resume", resume_dir,
+                      "Continue the search in this directory: finished trials are kept, the "
+                      "one cut short continues from its newest checkpoint");
+  fos_resume->excludes(fos->get_option("--force"))->excludes(fos->get_option("--out"));
+  fos->add_flag("--accept-changes", accept_changes,
+                "With --resume: accept a case changed in end times, max_steps, wall-time "
+                "limits or output")
+      ->needs(fos_resume);
   fos->add_option("--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
 
@@ -302,10 +313,25 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run)
-      return run_command(case_file, overrides, out_dir, force, threads, dump_tangent);
-    if (*fos)
-      return fos_command(case_file, overrides, out_dir, force, threads);
+    if (*run) {
+      RunOptions options;
+      options.out_dir = resume_dir.empty() ? out_dir : resume_dir;
+      options.force = force;
+      options.threads = threads;
+      options.dump_tangent = dump_tangent;
+      options.resume = !resume_dir.empty();
+      options.accept_changes = accept_changes;
+      return run_command(case_file, overrides, options);
+    }
+    if (*fos) {
+      FosOptions options;
+      options.out_dir = resume_dir.empty() ? out_dir : resume_dir;
+      options.force = force;
+      options.threads = threads;
+      options.resume = !resume_dir.empty();
+      options.accept_changes = accept_changes;
+      return fos_command(case_file, overrides, options);
+    }
     if (*adapt) {
       adapt_options.out_dir = adapt_out;
       return adapt_command(case_file, overrides, adapt_options);

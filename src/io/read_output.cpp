@@ -12,8 +12,24 @@ OutputSpec default_output(bool any_plastic) {
 
 OutputSpec Validator::output(const Item& it, bool any_plastic) const {
   const Map m(*this, it,
-              {"every_steps", "every_time", "fields", "stress_recovery", "voxels", "pattern_size"});
+              {"every_steps", "every_time", "fields", "stress_recovery", "voxels", "pattern_size",
+               "checkpoint"});
   OutputSpec o = default_output(any_plastic);
+  if (m.has("checkpoint")) {
+    const Map c(*this, m["checkpoint"], {"every_steps", "every_seconds"});
+    CheckpointSpec spec;
+    if (c.has("every_steps")) {
+      const Item every = c["every_steps"];
+      spec.every_steps = integer(every);
+      if (*spec.every_steps < 1)
+        fail(every, "must be an integer >= 1 (got " + shown(every.node.Scalar()) + ")");
+    }
+    if (c.has("every_seconds"))
+      spec.every_seconds = positive(c["every_seconds"]);
+    if (!spec.every_steps && !spec.every_seconds)
+      fail(c.self(), "give 'every_steps', 'every_seconds' or both");
+    o.checkpoint = spec;
+  }
   if (m.has("every_steps")) {
     const Item every = m["every_steps"];
     o.every_steps = integer(every);

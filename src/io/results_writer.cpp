@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fmt/format.h>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -281,6 +282,33 @@ ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
   h5::check_status(file.close(), "H5Fclose", "", f);
 }
 
+ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata,
+                             std::vector<FrameRecord> kept)
+    : dir_(std::move(dir)), h5_path_(dir_ / "run.h5"), xmf_path_(dir_ / "run.xmf"),
+      metadata_(std::move(metadata)), frames_(static_cast<Index>(kept.size())),
+      frame_info_(std::move(kept)) {
+  h5::quiet();
+  const auto& f = h5_path_;
+  Handle file = open_for_append(f);
+  for (Index k = 0;; ++k) {
+    const std::string gname = h5::frame_group_name(k);
+    const htri_t exists = H5Lexists(file.get(), gname.c_str(), H5P_DEFAULT);
+    h5::check_status(exists < 0 ? -1 : 0, "H5Lexists", gname, f);
+    if (k < frames_) {
+      if (exists == 0)
+        throw std::runtime_error(
+            fmt::format("'{}' lacks frame {} that the checkpoint names", f.string(), k));
+    } else if (exists > 0) {
+      // A frame written after the checkpoint: the resumed run writes it again.
+      h5::check_status(H5Ldelete(file.get(), gname.c_str(), H5P_DEFAULT), "H5Ldelete", gname, f);
+    } else {
+      break;
+    }
+  }
+  h5::check_status(file.close(), "H5Fclose", "", f);
+  write_xdmf();
+}
+
 template <int Dim>
 void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p,
                                 const std::vector<OutputField>& fields,
@@ -388,7 +416,7 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p
                     f);
   h5::check_status(file.close(), "H5Fclose", gname, f);
 
-  FrameInfo info{step, time, n, fields, post.stress != nullptr, post.voxels != nullptr};
+  FrameRecord info{step, time, n, fields, post.stress != nullptr, post.voxels != nullptr};
   if (post.stress) {
     const GridBox<Dim> box(*post.stress);
     info.grid_nodes = box.nodes;

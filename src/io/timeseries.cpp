@@ -11,7 +11,7 @@
 namespace talus {
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file,
-                                   std::vector<std::string> columns)
+                                   std::vector<std::string> columns, bool append)
     : columns_(columns.size()) {
   if (columns.empty())
     throw std::invalid_argument("TimeSeriesWriter: '" + file.string() +
@@ -21,10 +21,12 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& file,
       throw std::invalid_argument("TimeSeriesWriter: column name '" + c + "' for '" +
                                   file.string() +
                                   "' must be non-empty and contain no comma, quote or newline");
-  file_ = std::fopen(file.c_str(), "w");
+  file_ = std::fopen(file.c_str(), append ? "a" : "w");
   if (!file_)
     throw std::runtime_error("cannot create time series file '" + file.string() +
                              "': " + std::strerror(errno));
+  if (append)
+    return;
   std::string header;
   for (std::size_t i = 0; i < columns.size(); ++i) {
     if (i)

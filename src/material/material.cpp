@@ -21,6 +21,12 @@ void Material::plastic_strain(std::span<const Index> ids, std::span<double> out)
     out[static_cast<std::size_t>(p)] = 0.0;
 }
 
+void Material::restore_history(std::span<const double> values) {
+  if (!values.empty())
+    throw std::runtime_error(fmt::format(
+        "material '{}': the checkpoint holds a plastic history, but the model has none", name()));
+}
+
 void Material::set_initial_stress(std::span<const Index> ids, std::span<const Mat3>) {
   if (!ids.empty())
     throw InputError(SourceLocation{},

@@ -161,4 +161,40 @@ bool nonsymmetric_tangent(const MaterialSpec& spec) {
   return frictional && (spec.dilation_angle != spec.friction_angle || spec.residual.has_value());
 }
 
+namespace {
+constexpr std::size_t kHistoryValues = 9 + 1 + 9 + 1;
+} // namespace
+
+std::vector<double> PlasticMaterial::history() const {
+  std::vector<double> out;
+  out.reserve(kHistoryValues * converged_.size());
+  for (std::size_t p = 0; p < converged_.size(); ++p) {
+    out.insert(out.end(), converged_[p].elastic.data(), converged_[p].elastic.data() + 9);
+    out.push_back(converged_[p].kappa);
+    out.insert(out.end(), converged_F_[p].data(), converged_F_[p].data() + 9);
+    out.push_back(static_cast<double>(trial_return_[p]));
+  }
+  return out;
+}
+
+void PlasticMaterial::restore_history(std::span<const double> values) {
+  if (values.size() % kHistoryValues != 0)
+    throw std::runtime_error(fmt::format("material '{}': a plastic history of {} values is not "
+                                         "{} per point",
+                                         name(), values.size(), kHistoryValues));
+  const std::size_t n = values.size() / kHistoryValues;
+  converged_.assign(n, PlasticHistory::initial(kinematics_));
+  converged_F_.assign(n, Mat3::Identity());
+  trial_return_.assign(n, ReturnType::Elastic);
+  for (std::size_t p = 0; p < n; ++p) {
+    const double* v = values.data() + kHistoryValues * p;
+    converged_[p].elastic = Eigen::Map<const Mat3>(v);
+    converged_[p].kappa = v[9];
+    converged_F_[p] = Eigen::Map<const Mat3>(v + 10);
+    trial_return_[p] = static_cast<ReturnType>(static_cast<int>(v[19]));
+  }
+  trial_ = converged_;
+  trial_F_ = converged_F_;
+}
+
 } // namespace talus

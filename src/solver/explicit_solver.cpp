@@ -21,7 +21,7 @@ class ExplicitSolverImpl final : public ExplicitSolver {
   using M = Mat<Dim>;
 
 public:
-  explicit ExplicitSolverImpl(Scene<Dim>& scene) : scene_(scene) {
+  ExplicitSolverImpl(Scene<Dim>& scene, bool stress_current) : scene_(scene) {
     const auto& P = scene.particles;
     for (auto& r : reactions_)
       r.setZero();
@@ -32,7 +32,11 @@ public:
       throw std::logic_error("APIC transfer without the points' affine velocities");
     for (const auto& material : scene.materials)
       wave_speed_.push_back(material->wave_speed());
-    update_stress(); // stress consistent with the initial F
+    // Stress consistent with the initial F: a plastic model's evaluation at an unchanged F
+    // may still move its stress by round-off, so a resumed stage, whose stress is current,
+    // does not repeat it.
+    if (!stress_current)
+      update_stress();
   }
 
   void step(double dt) override {
@@ -425,16 +429,17 @@ template <int Dim, bool Axisymmetric> struct ExplicitIn {
 
 } // namespace
 
-template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene) {
+template <int Dim>
+std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene, bool stress_current) {
   if constexpr (Dim == 2)
     if (scene.spec.geometry == Geometry::Axisymmetric)
       return make_for_shape<ExplicitSolver, ExplicitIn<2, true>::template Solver>(
-          scene.spec.solver.shape, scene);
+          scene.spec.solver.shape, scene, stress_current);
   return make_for_shape<ExplicitSolver, ExplicitIn<Dim, false>::template Solver>(
-      scene.spec.solver.shape, scene);
+      scene.spec.solver.shape, scene, stress_current);
 }
 
-template std::unique_ptr<ExplicitSolver> make_explicit_solver<2>(Scene<2>&);
-template std::unique_ptr<ExplicitSolver> make_explicit_solver<3>(Scene<3>&);
+template std::unique_ptr<ExplicitSolver> make_explicit_solver<2>(Scene<2>&, bool);
+template std::unique_ptr<ExplicitSolver> make_explicit_solver<3>(Scene<3>&, bool);
 
 } // namespace talus

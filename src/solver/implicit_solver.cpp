@@ -145,6 +145,11 @@ public:
   Index active_nodes() const override { return step_.map.node_count(); }
   Index unknowns() const override { return step_.dof_count; }
   ImplicitTimings timings() const override { return timings_; }
+  Continuation continuation() const override { return {ramp_committed_, line_search_first_}; }
+  void continue_from(const Continuation& c) override {
+    ramp_committed_ = c.prescribed_fraction;
+    line_search_first_ = c.line_search_first;
+  }
   const SparseMatrix& last_tangent() const override {
     static const SparseMatrix kNone;
     return share_tangents_.empty() ? kNone : share_tangents_[0].assembler.finish();

@@ -88,14 +88,14 @@ CaseSpec staged_case(const CaseSpec& spec, FactorPath& path) {
 
 } // namespace
 
-FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path& dir, int threads,
-                                            bool& interrupted) {
+FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path& dir,
+                                            const FosOptions& search, bool& interrupted) {
   const StrengthReductionSpec& settings = *spec.strength_reduction;
   FactorPath path;
   const CaseSpec staged = staged_case(spec, path);
   RunOptions options;
   options.out_dir = dir;
-  options.threads = threads;
+  options.threads = search.threads;
   options.progress = true; // one long run: the user sees it advance
   if (settings.displacement_limit)
     options.stop_after_step = [&](std::span<const ProbeState> probes,
@@ -113,7 +113,7 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
   StrengthTrial last;
   RunResult run;
   try {
-    run = run_case(staged, options);
+    run = run_or_resume_trial(staged, options, search);
   } catch (const InputError& e) { // the reduced strength refused the initial stress
     last.factor = settings.lower;
     last.failed = true;

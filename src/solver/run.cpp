@@ -1,6 +1,8 @@
 #include "talus/solver/run.hpp"
 
+#include "run_checkpoint.hpp"
 #include "run_recorder.hpp"
+#include "run_stage_loops.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
 #include "talus/core/splitting.hpp"
@@ -11,6 +13,7 @@
 #include "talus/post/voxels.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
+#include "talus/solver/scene_checkpoint.hpp"
 #include "talus/solver/stage_watch.hpp"
 #include "talus/solver/state_guard.hpp"
 #include "talus/solver/strength_reduction.hpp"
@@ -31,305 +34,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using run_detail::g_interrupted;
+using run_detail::LoopState;
 using run_detail::Recorder;
+using run_detail::set_strength;
+using run_detail::StageStrength;
 
-std::atomic<bool> g_interrupted{false};
 extern "C" void on_interrupt(int) {
-  g_interrupted = true;
+  run_detail::g_interrupted = true;
 }
 
 // Result files a run owns; --force replaces exactly these and leaves anything else alone.
-const char* const kResultFiles[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json",
-                                    "newton.log"};
-
-struct LoopState {
-  double t = 0;               ///< the stage's time
-  Index step = 0;             ///< steps of the whole run
-  Index stage_first_step = 0; ///< `step` when the current stage began
-  /// RunOptions::stop_after_step, and what it said when it ended the run.
-  std::function<std::optional<std::string>(std::span<const ProbeState>, double)> stop_after_step{};
-  std::optional<std::string> stopped{};
-};
-
-/// The probes' points now and at the start, for RunOptions::stop_after_step.
-template <int Dim> std::vector<ProbeState> probe_states(const Scene<Dim>& scene) {
-  std::vector<ProbeState> out;
-  for (std::size_t k = 0; k < scene.probe_particles.size(); ++k) {
-    const auto p = static_cast<std::size_t>(scene.probe_particles[k]);
-    out.push_back({scene.probe_names[k], padded<Dim>(scene.particles.x0[p]),
-                   padded<Dim>(scene.particles.x[p])});
-  }
-  return out;
-}
-
-/// Asks RunOptions::stop_after_step, if the run has one, after a completed step.
-template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double time) {
-  if (s.stop_after_step)
-    s.stopped = s.stop_after_step(probe_states(scene), time);
-}
-
-void check_limits(const TimeSpec& time, const LoopState& s) {
-  if (s.step - s.stage_first_step >= time.max_steps)
-    throw NumericalError(fmt::format("reached max_steps = {} at t = {:g} before end_time = "
-                                     "{:g}; raise time.max_steps or the time step",
-                                     time.max_steps, s.t, time.end_time));
-}
-
-// Time steps shorter than this fraction of the nominal step are absorbed into the previous
-// one, so round-off never produces a sliver step at an output time or the end.
-constexpr double kSliver = 1e-9;
-
-/// The strength of the frictional materials during a stage: c / F, tan(phi) / F with F moving
-/// from the previous stage's factor to the stage's own over a quasi-static stage, or set at
-/// the start of a dynamic one. The materials keep their history; only the return map changes.
-template <int Dim> class StageStrength {
-public:
-  /// `applied`: the factor the materials have now (the previous stage's), kept up to date as
-  /// the factor changes (the caller's record outlives a failed stage); `end`: the stage's.
-  StageStrength(Scene<Dim>& scene, const CaseSpec& case_spec, double& applied, double end)
-      : scene_(scene), case_spec_(case_spec), start_(applied), end_(end), applied_(applied) {}
-
-  /// Sets the factor for a step that ends at the fraction `progress` of the stage.
-  void at(double progress) {
-    const double factor = scene_.spec.analysis == AnalysisType::ImplicitQuasistatic
-                              ? start_ + (end_ - start_) * progress
-                              : end_;
-    if (factor == applied_)
-      return;
-    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
-      if (auto* plastic = dynamic_cast<PlasticMaterial*>(scene_.materials[m].get()))
-        plastic->replace_model(
-            make_plastic_model(reduce_strength(case_spec_.materials[m], factor)));
-    applied_ = factor;
-  }
-  double factor() const { return applied_; }
-
-private:
-  Scene<Dim>& scene_;
-  const CaseSpec& case_spec_; ///< the case as written, full strength
-  double start_, end_;
-  double& applied_; ///< the factor the materials' return maps have
-};
-
-/// Splits the points that meet their body's criterion after a completed step (a converged one
-/// in the implicit analyses), so every step starts from a consistent set of points.
-template <int Dim, class Solver>
-void split_after_step(Scene<Dim>& scene, Solver& solver, RunResult& result) {
-  const Index splits = split_material_points(scene);
-  if (splits == 0)
-    return;
-  solver.particles_changed();
-  result.extra["splits"] += static_cast<double>(splits);
-}
-
-/// Writes A in Matrix Market coordinate format (both triangles, 1-based).
-void write_matrix_market(const fs::path& file, const SparseMatrix& A) {
-  std::ofstream out(file);
-  out << "%%MatrixMarket matrix coordinate real general\n"
-      << A.rows() << ' ' << A.cols() << ' ' << A.nonZeros() << '\n';
-  out.precision(17);
-  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
-      out << it.row() + 1 << ' ' << c + 1 << ' ' << it.value() << '\n';
-  if (!out)
-    throw std::runtime_error("cannot write " + file.string());
-}
-
-/// Explicit dynamics: CFL or fixed steps until end_time.
-template <int Dim>
-void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
-                  StageWatch& watch) {
-  auto solver = make_explicit_solver(scene);
-  const TimeSpec& time = scene.spec.time;
-  if (s.step == 0)
-    rec.append_row(solver->energies(), solver->reactions(), {}, 0, 0, 0);
-  // The stepping loop's own time (summary.json "seconds_stepping"): throughput figures leave
-  // out building the scene and writing results.
-  const auto loop_start = std::chrono::steady_clock::now();
-  const double frame_seconds_before = rec.frame_seconds;
-  const Index steps_before = s.step;
-  const auto record_loop_time = [&] {
-    result.extra["seconds_stepping"] +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count() -
-        (rec.frame_seconds - frame_seconds_before);
-    result.extra["steps_stepping"] += static_cast<double>(s.step - steps_before);
-  };
-  while (s.t < time.end_time * (1.0 - 1e-14)) {
-    check_limits(time, s);
-    if (g_interrupted) {
-      record_loop_time();
-      return;
-    }
-    double dt = time.dt ? *time.dt : solver->stable_dt(*time.cfl);
-    if (!(dt > 0) || !std::isfinite(dt))
-      throw NumericalError(fmt::format("time step became {:g}", dt));
-    const double target = rec.target(time.end_time);
-    if (s.t + dt * (1.0 + kSliver) >= target)
-      dt = target - s.t;
-    const double t_end = (s.t + dt >= target) ? target : s.t + dt;
-    // Above the Courant limit the step would amplify every mode: stop before taking it, with
-    // the state, still good, as the last frame.
-    if (time.dt)
-      if (auto violation = find_courant_violation(scene, dt)) {
-        rec.final_frame(s.step, s.t);
-        rec.stop_if_violated(violation, fmt::format("before the step from t = {:g}", s.t));
-      }
-    const std::string at_end = fmt::format("at the end of the step (t = {:g})", t_end);
-    auto guard = [&] {
-      rec.stop_if_violated(solver->grid_violation(), at_end);
-      rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
-    };
-    watch.before_step(scene.particles);
-    try {
-      solver->step(dt);
-    } catch (const NumericalError&) {
-      // A material that met det F <= 0 or a point that left the grid: name the point if the
-      // state shows it, otherwise pass the solver's own message on.
-      guard();
-      throw;
-    }
-    guard();
-    s.t = t_end;
-    ++s.step;
-    const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
-    ask_stop(s, scene, rec.stage_start_time + s.t);
-    split_after_step(scene, *solver, result);
-    const Energies e = solver->energies();
-    if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
-      throw NumericalError("non-finite energy");
-    rec.after_step(s.step, s.t, dt, e, solver->reactions(), {}, {});
-    if (stage_ends || s.stopped)
-      break;
-  }
-  record_loop_time();
-  rec.final_frame(s.step, s.t);
-  result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
-}
-
-/// Implicit analyses: steps cut back (halved) when Newton fails and
-/// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
-/// residual history goes to newton.log. A failure at the minimum step ends the run after
-/// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
-/// the stage's pseudo-time (the first stage); otherwise they act in full.
-template <int Dim>
-void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
-                  const fs::path& out_dir, StageWatch& watch, StageStrength<Dim>& strength,
-                  bool loads_ramp, const fs::path& dump_tangent) {
-  auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
-  result.linear_solver = solver->linear_solver();
-  const TimeSpec& time = scene.spec.time;
-  const double dt0 = *time.dt;
-  const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
-  double dt = dt0;
-  int easy_steps = 0;
-  // One log for the run: the first stage creates it, later stages append.
-  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), s.step == 0 ? "w" : "a");
-  if (!log)
-    throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
-  if (s.step == 0)
-    std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
-  if (!scene.spec.stages.empty())
-    std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
-                 scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
-  Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
-        max_iterations = 0;
-  if (s.step == 0)
-    rec.append_row(solver->energies(), solver->reactions(), solver->prescribed_reactions(), 0, 0,
-                   0);
-  auto record_totals = [&] {
-    auto& x = result.extra;
-    x["load_steps"] += static_cast<double>(s.step - s.stage_first_step);
-    x["newton_iterations"] += static_cast<double>(newton_iterations);
-    x["newton_iterations_max_per_step"] =
-        std::max(x["newton_iterations_max_per_step"], static_cast<double>(max_iterations));
-    x["linear_solves"] += static_cast<double>(linear_solves);
-    x["linear_iterations"] += static_cast<double>(linear_iterations);
-    x["cutbacks"] += static_cast<double>(cutbacks);
-    const ImplicitTimings t = solver->timings();
-    for (const auto& [key, seconds] : implicit_phases(t))
-      x[key] += seconds;
-    x["unknowns_last_step"] = static_cast<double>(solver->unknowns());
-    if (!dump_tangent.empty())
-      write_matrix_market(dump_tangent, solver->last_tangent());
-  };
-  try {
-    while (s.t < time.end_time * (1.0 - 1e-14)) {
-      check_limits(time, s);
-      if (g_interrupted)
-        break;
-      const double target = rec.target(time.end_time);
-      double step_dt = std::min(dt, target - s.t);
-      if (s.t + step_dt * (1.0 + kSliver) >= target)
-        step_dt = target - s.t;
-      const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
-      // Quasi-static loads ramp with the first stage's pseudo-time; dynamic loads act in full
-      // from t = 0, and after the first stage every load does.
-      const bool dynamic = scene.spec.analysis == AnalysisType::ImplicitDynamic;
-      const double ramp = loads_ramp ? t_end / time.end_time : 1.0;
-      strength.at(t_end / time.end_time);
-      watch.before_step(scene.particles);
-      const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
-      newton_iterations += r.iterations;
-      linear_solves += r.linear_solves;
-      linear_iterations += r.linear_iterations;
-      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1),
-                   rec.stage_start_time + t_end, step_dt, r.converged ? "yes" : "no", r.iterations);
-      if (!r.abandoned_history.empty()) {
-        std::fprintf(log, " [%s:", r.abandoned_line_search ? "line search" : "plain Newton");
-        for (double v : r.abandoned_history)
-          std::fprintf(log, " %.3e", v);
-        std::fprintf(log, "; %s:]", r.abandoned_line_search ? "plain Newton" : "line search");
-      }
-      for (double v : r.residual_history)
-        std::fprintf(log, " %.3e", v);
-      std::fprintf(log, "%s%s\n", r.converged ? "" : "  ", r.message.c_str());
-      std::fflush(log);
-      if (!r.converged) {
-        ++cutbacks;
-        easy_steps = 0;
-        if (step_dt <= min_dt * (1.0 + 1e-12))
-          throw NumericalError(fmt::format(
-              "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}{}): "
-              "{}",
-              step_dt, s.t, t_end,
-              strength.factor() != 1.0 ? fmt::format(", strength factor {:.6g}", strength.factor())
-                                       : "",
-              r.message));
-        dt = std::max(0.5 * step_dt, min_dt);
-        continue;
-      }
-      rec.stop_if_violated(find_particle_violation(scene.particles),
-                           fmt::format("after the converged step to t = {:g}", t_end));
-      max_iterations = std::max<Index>(max_iterations, r.iterations);
-      s.t = t_end;
-      ++s.step;
-      const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
-      ask_stop(s, scene, rec.stage_start_time + s.t);
-      split_after_step(scene, *solver, result);
-      const int easy = scene.spec.solver.easy_newton_iterations;
-      if (r.iterations <= easy && ++easy_steps >= 2) {
-        dt = std::min(2.0 * dt, dt0);
-        easy_steps = 0;
-      } else if (r.iterations > easy) {
-        easy_steps = 0;
-      }
-      rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
-                     solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
-      if (stage_ends || s.stopped)
-        break;
-    }
-  } catch (const StateGuardError&) {
-    record_totals();
-    throw;
-  } catch (const NumericalError&) {
-    record_totals();
-    rec.final_frame(s.step, s.t); // the last converged state
-    throw;
-  }
-  record_totals();
-  rec.final_frame(s.step, s.t);
-}
+const char* const kResultFiles[] = {"run.h5",       "run.xmf",    "timeseries.csv",
+                                    "summary.json", "newton.log", "checkpoints"};
 
 /// An implicit run's phases and output add up to its wall time: the rest (building the scene,
 /// the stepper, splitting) is `seconds_other`.
@@ -341,6 +58,8 @@ void account_for_wall_time(RunResult& result, double output_seconds) {
   double accounted = output_seconds;
   for (const auto& [key, seconds] : implicit_phases(ImplicitTimings{}))
     accounted += x[key];
+  if (x.contains("seconds_checkpoint"))
+    accounted += x["seconds_checkpoint"];
   x["seconds_other"] = result.wall_seconds - accounted;
 }
 
@@ -401,6 +120,51 @@ void prepare_output_directory(const fs::path& dir, bool force) {
 
 namespace {
 
+/// A resumed run's starting point: its newest valid checkpoint, read and checked against the
+/// case, with the scene's points restored from it. Throws InputError (exit 2) when there is
+/// no usable checkpoint or the case differs; nothing is written before.
+template <int Dim>
+run_detail::RunProgress resume_from_checkpoint(Scene<Dim>& scene, const fs::path& out_dir,
+                                               const RunOptions& options) {
+  std::vector<std::string> skipped;
+  const CheckpointReader checkpoint = run_detail::newest_valid_checkpoint(out_dir, skipped);
+  for (const auto& why : skipped)
+    fmt::print(stderr, "talus: {}\n", why);
+  run_detail::RunProgress progress = run_detail::read_progress(checkpoint);
+  if (progress.dimension != Dim)
+    throw InputError({"--resume", 0, 0, ""},
+                     fmt::format("checkpoint '{}' is of a {}D run; the case is {}D",
+                                 checkpoint.file().string(), progress.dimension, Dim));
+  run_detail::check_same_case(scene.spec, progress, options.accept_changes);
+  try {
+    restore_scene_state(checkpoint, scene);
+  } catch (const std::runtime_error& e) {
+    throw InputError({"--resume", 0, 0, ""}, e.what());
+  }
+  // The backend the run chose by itself stays (the choice depends on the first step's size).
+  if (!progress.linear_solver.empty())
+    scene.spec.solver.linear_solver = progress.linear_solver;
+  // As StageStrength::at: the materials as built have the factor 1 (and the return map
+  // reduce_strength(1) makes may differ from it in the last bit).
+  if (progress.strength_factor != 1.0)
+    set_strength(scene, scene.spec, progress.strength_factor);
+  // Rows and log lines written after the checkpoint are written again.
+  for (const auto& [file, bytes] :
+       {std::pair{out_dir / "timeseries.csv", progress.timeseries_bytes},
+        std::pair{out_dir / "newton.log", progress.newton_log_bytes}}) {
+    std::error_code ec;
+    if (bytes > 0 && (!fs::exists(file, ec) || fs::file_size(file, ec) < bytes))
+      throw InputError({"--resume", 0, 0, ""},
+                       fmt::format("'{}' is shorter than when checkpoint '{}' was written",
+                                   file.string(), checkpoint.file().string()));
+    if (bytes > 0)
+      fs::resize_file(file, bytes);
+  }
+  fmt::print(stderr, "talus: resuming from '{}' (step {}, t = {:g})\n", checkpoint.file().string(),
+             progress.step, progress.stage_start_time + progress.t);
+  return progress;
+}
+
 /// run_case for a case of dimension Dim: the stages, each from the state the previous left.
 template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -408,13 +172,20 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   Scene<Dim> scene = build_scene<Dim>(spec);
   RunResult result;
   result.out_dir = options.out_dir.empty() ? fs::path("results") / spec.name : options.out_dir;
-  prepare_output_directory(result.out_dir, options.force);
+  std::optional<run_detail::RunProgress> resumed;
+  if (options.resume)
+    resumed = resume_from_checkpoint(scene, result.out_dir, options);
+  else
+    prepare_output_directory(result.out_dir, options.force);
   if (options.threads > 0)
     omp_set_num_threads(options.threads);
 
   fs::create_directories(result.out_dir);
-  ResultsWriter writer(result.out_dir, run_detail::metadata_of(scene));
-  TimeSeriesWriter series(result.out_dir / "timeseries.csv", run_detail::timeseries_columns(scene));
+  ResultsWriter writer =
+      resumed ? ResultsWriter(result.out_dir, run_detail::metadata_of(scene), resumed->frames)
+              : ResultsWriter(result.out_dir, run_detail::metadata_of(scene));
+  TimeSeriesWriter series(result.out_dir / "timeseries.csv", run_detail::timeseries_columns(scene),
+                          resumed.has_value());
 
   const OutputSpec& out = spec.output;
   g_interrupted = false;
@@ -428,13 +199,36 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   state.stop_after_step = options.stop_after_step;
   result.status = "completed";
   result.particles = scene.particles.size();
-  if (splitting_requested(spec)) {
-    result.extra["particles_initial"] = static_cast<double>(scene.particles.size());
-    result.extra["splits"] = 0.0;
-  }
-  recorder.write_frame(0, 0.0);
   double stage_start_time = 0;
   double strength_factor = 1.0;
+  double wall_before = 0; // of the run's earlier processes (a resumed run)
+  std::size_t first_stage = 0;
+  if (resumed) {
+    const run_detail::RunProgress& r = *resumed;
+    result.extra = r.extra;
+    result.stages = r.stages;
+    state.step = r.step;
+    state.stage_first_step = r.stage_first_step;
+    state.resumed_mid_stage = r.stage_started;
+    state.implicit_dt = r.implicit_dt;
+    state.easy_steps = r.easy_steps;
+    state.continuation = r.continuation;
+    stage_start_time = r.stage_start_time;
+    strength_factor = r.strength_factor;
+    wall_before = r.wall_seconds;
+    first_stage = static_cast<std::size_t>(r.stage);
+    recorder.frame_at_current_step = r.frame_at_current_step;
+    recorder.last_frame_step = r.last_frame_step;
+    recorder.last_frame_time = r.last_frame_time;
+    recorder.frame_seconds = r.frame_seconds;
+    recorder.post_seconds = r.post_seconds;
+  } else {
+    if (splitting_requested(spec)) {
+      result.extra["particles_initial"] = static_cast<double>(scene.particles.size());
+      result.extra["splits"] = 0.0;
+    }
+    recorder.write_frame(0, 0.0);
+  }
   std::optional<StageSummary> current;
   // Closes the stage record with why the stage ended.
   auto end_stage = [&](const std::string& why, const auto& stage_started) {
@@ -448,17 +242,78 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     current.reset();
   };
   auto stage_started = std::chrono::steady_clock::now();
+
+  // Checkpoints: the run's progress and the scene's evolving state, after a completed step
+  // when due (output.checkpoint), on an interrupt and at each stage's end.
+  const std::optional<CheckpointSpec>& checkpoint_spec = out.checkpoint;
+  auto last_checkpoint = std::chrono::steady_clock::now();
+  auto write_checkpoint = [&](std::size_t stage, bool stage_in_progress, double stage_strength,
+                              const StageWatch* watch) {
+    const auto start = std::chrono::steady_clock::now();
+    result.extra["checkpoints"] += 1;
+    run_detail::RunProgress p;
+    p.case_text = spec.source_text;
+    p.overrides = spec.overrides;
+    p.dimension = Dim;
+    p.stage = static_cast<Index>(stage);
+    p.stage_started = stage_in_progress;
+    p.step = state.step;
+    p.stage_first_step = state.stage_first_step;
+    p.t = state.t;
+    p.stage_start_time = stage_start_time;
+    p.strength_factor = strength_factor;
+    p.stage_start_strength = stage_strength;
+    p.stage_wall_seconds = std::chrono::duration<double>(start - stage_started).count();
+    p.wall_seconds = std::chrono::duration<double>(start - wall_start).count() + wall_before;
+    p.linear_solver = result.linear_solver;
+    p.implicit_dt = state.implicit_dt;
+    p.easy_steps = state.easy_steps;
+    p.continuation = state.continuation;
+    if (watch)
+      p.watch = watch->memory();
+    p.extra = result.extra;
+    if (stage_in_progress && state.stage_totals)
+      state.stage_totals(p.extra);
+    p.stages = result.stages;
+    p.frames = writer.frames();
+    std::error_code ec;
+    p.timeseries_bytes = fs::file_size(result.out_dir / "timeseries.csv");
+    const fs::path log = result.out_dir / "newton.log";
+    p.newton_log_bytes = fs::exists(log, ec) ? fs::file_size(log) : 0;
+    p.next_frame_time = recorder.next_frame_time;
+    p.frame_at_current_step = recorder.frame_at_current_step;
+    p.last_frame_step = recorder.last_frame_step;
+    p.last_frame_time = recorder.last_frame_time;
+    p.frame_seconds = recorder.frame_seconds;
+    p.post_seconds = recorder.post_seconds;
+    CheckpointWriter file;
+    run_detail::put_progress(file, p);
+    save_scene_state(scene, file);
+    run_detail::write_checkpoint(result.out_dir, state.step, file);
+    last_checkpoint = std::chrono::steady_clock::now();
+    result.extra["seconds_checkpoint"] +=
+        std::chrono::duration<double>(last_checkpoint - start).count();
+    result.extra["checkpoint_bytes"] = static_cast<double>(file.bytes());
+  };
   try {
-    for (std::size_t k = 0; k < stages.size() && !g_interrupted; ++k) {
+    for (std::size_t k = first_stage; k < stages.size() && !g_interrupted; ++k) {
       const StageSpec& stage = stages[k];
-      if (k > 0 && stages[k - 1].analysis == AnalysisType::ImplicitQuasistatic &&
+      const bool continuing = state.resumed_mid_stage;
+      if (!continuing && k > 0 && stages[k - 1].analysis == AnalysisType::ImplicitQuasistatic &&
           stage.analysis != AnalysisType::ImplicitQuasistatic)
         start_at_rest(scene.particles);
       scene.spec.analysis = stage.analysis;
       scene.spec.time = stage.time;
-      state.t = 0;
-      state.stage_first_step = state.step;
-      stage_started = std::chrono::steady_clock::now();
+      if (!continuing) {
+        state.t = 0;
+        state.stage_first_step = state.step;
+      } else {
+        state.t = resumed->t;
+      }
+      stage_started =
+          std::chrono::steady_clock::now() -
+          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+              std::chrono::duration<double>(continuing ? resumed->stage_wall_seconds : 0.0));
       current = StageSummary{};
       current->name = stage.name;
       current->analysis = analysis_name(stage.analysis);
@@ -470,8 +325,25 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
                                           : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
                            stage_start_time);
       StageWatch watch(stage);
-      StageStrength<Dim> strength(scene, spec, strength_factor,
-                                  stage.strength_factor.value_or(strength_factor));
+      const double start_strength = continuing ? resumed->stage_start_strength : strength_factor;
+      StageStrength<Dim> strength(scene, spec, strength_factor, start_strength,
+                                  stage.strength_factor.value_or(start_strength));
+      if (continuing) {
+        recorder.next_frame_time = resumed->next_frame_time;
+        watch.recall(resumed->watch);
+      }
+      state.checkpoint = [&, k] {
+        if (!checkpoint_spec)
+          return;
+        const bool due =
+            g_interrupted || watch.out_of_time() ||
+            (checkpoint_spec->every_steps && state.step % *checkpoint_spec->every_steps == 0) ||
+            (checkpoint_spec->every_seconds &&
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
+                     .count() >= *checkpoint_spec->every_seconds);
+        if (due)
+          write_checkpoint(k, true, strength.start(), &watch);
+      };
       // From here on strength_factor follows the factor the materials have.
       if (stage.analysis == AnalysisType::Explicit) {
         strength.at(1.0);
@@ -480,6 +352,11 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
         run_implicit(scene, recorder, state, result, result.out_dir, watch, strength, k == 0,
                      options.dump_tangent);
       }
+      state.checkpoint = nullptr;
+      // Ended by its end time or at rest, not cut short: the next checkpoint starts the next.
+      const bool stage_complete =
+          !state.stopped && !watch.out_of_time() &&
+          (!watch.reason().empty() || state.t >= stage.time.end_time * (1.0 - 1e-14));
       if (g_interrupted)
         recorder.final_frame(state.step, state.t);
       const std::string why = g_interrupted            ? "interrupted"
@@ -503,6 +380,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
         result.exit_code = kExitOther;
         break;
       }
+      if (stage_complete && checkpoint_spec)
+        write_checkpoint(k + 1, false, strength_factor, nullptr);
     }
     if (g_interrupted) {
       result.status = "interrupted";
@@ -511,6 +390,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
       result.exit_code = kExitOther;
     }
   } catch (const NumericalError& err) {
+    state.checkpoint = nullptr;
+    state.stage_totals = nullptr;
     result.status = "numerical_failure";
     result.message =
         fmt::format("step {}, t = {:g}{}: {}", state.step + 1, stage_start_time + state.t,
@@ -538,7 +419,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   result.final_time = stage_start_time + state.t;
   result.frames = writer.frames_written();
   result.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() +
+      wall_before;
   account_for_wall_time(result, recorder.frame_seconds);
   Progress(spec.name, 0, options.progress)
       .finish(result.status == "completed"

@@ -2,6 +2,7 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/core/scene.hpp"
+#include "talus/io/checkpoint_file.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/post/python_script.hpp"
 #include "talus/solver/run.hpp"
@@ -60,19 +61,19 @@ crest_limit_stop(const StrengthReductionSpec& settings, double end_time) {
 }
 
 /// One trial: the case with reduced strength, run quietly into `dir`; what it ended with.
-StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir, int threads,
-                        bool& interrupted) {
+StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir,
+                        const FosOptions& search, bool& interrupted) {
   const StrengthReductionSpec& settings = *spec.strength_reduction;
   const auto start = std::chrono::steady_clock::now();
   RunOptions options;
   options.out_dir = dir;
-  options.threads = threads;
+  options.threads = search.threads;
   options.progress = false;
   if (settings.displacement_limit)
     options.stop_after_step = crest_limit_stop(settings, spec.time.end_time);
   RunResult run;
   try {
-    run = run_case(reduce_strength(spec, factor), options);
+    run = run_or_resume_trial(reduce_strength(spec, factor), options, search);
   } catch (const InputError& e) {
     // The reduced strength refused the initial stress: the slope cannot even start.
     StrengthTrial trial;
@@ -239,6 +240,48 @@ FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
   return fos;
 }
 
+namespace {
+
+/// A finished run's result as its summary.json tells it; nothing if it did not finish.
+std::optional<RunResult> finished_run(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  if (!in)
+    return std::nullopt;
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || j.value("status", "") == "interrupted")
+    return std::nullopt;
+  RunResult r;
+  r.out_dir = dir;
+  r.status = j.value("status", "");
+  r.message = j.value("message", "");
+  r.steps = j.value("steps", Index{0});
+  r.final_time = j.value("final_time", 0.0);
+  r.frames = j.value("frames", Index{0});
+  r.particles = j.value("particles", Index{0});
+  r.wall_seconds = j.value("wall_seconds", 0.0);
+  r.linear_solver = j.value("linear_solver", "");
+  r.exit_code = r.status == "completed"           ? kExitOk
+                : r.status == "numerical_failure" ? kExitNumerical
+                                                  : kExitOther;
+  for (const auto& [key, value] : j.items())
+    if (value.is_number() && !value.is_number_integer())
+      r.extra[key] = value.get<double>();
+  return r;
+}
+
+} // namespace
+
+RunResult run_or_resume_trial(const CaseSpec& spec, RunOptions options, const FosOptions& search) {
+  if (search.resume && fs::exists(options.out_dir)) {
+    if (auto finished = finished_run(options.out_dir))
+      return *finished;
+    options.resume = !list_checkpoints(options.out_dir / "checkpoints").empty();
+    options.accept_changes = search.accept_changes;
+    options.force = !options.resume;
+  }
+  return run_case(spec, options);
+}
+
 FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& options) {
   if (!spec.strength_reduction)
     throw InputError({spec.source_file, 0, 0, "strength_reduction"},
@@ -249,7 +292,14 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   FosRunResult result;
   result.out_dir =
       options.out_dir.empty() ? fs::path("results") / (spec.name + "-fos") : options.out_dir;
-  claim_output_directory(result.out_dir, options.force, kFosEntries);
+  if (options.resume) {
+    if (!fs::is_directory(result.out_dir / kTrialsDir))
+      throw InputError({"--resume", 0, 0, ""},
+                       fmt::format("'{}' holds no search to resume (no '{}' folder)",
+                                   result.out_dir.string(), kTrialsDir));
+  } else {
+    claim_output_directory(result.out_dir, options.force, kFosEntries);
+  }
   fs::create_directories(result.out_dir / kTrialsDir);
   std::ofstream log(result.out_dir / "fos.log");
   log << fmt::format("# talus fos {}: strength reduction c / F, tan(phi) / F; a trial fails when "
@@ -270,7 +320,7 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
       return t;
     }
     const fs::path dir = result.out_dir / kTrialsDir / fmt::format("F{:.6f}", factor);
-    return run_trial(spec, factor, dir, options.threads, interrupted);
+    return run_trial(spec, factor, dir, options, interrupted);
   };
   auto on_trial = [&](const StrengthTrial& t) {
     const std::string line =
@@ -281,7 +331,7 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   };
   if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
     result.fos = incremental_factor_of_safety(spec, result.out_dir / kTrialsDir / "incremental",
-                                              options.threads, interrupted);
+                                              options, interrupted);
     for (const StrengthTrial& t : result.fos.trials)
       log << fmt::format("step F = {:.6f}: {}\n", t.factor, t.reason);
   } else {

@@ -19,3 +19,16 @@ CaseSpec read_case_text(const std::string& text, const std::string& label,
                         const std::vector<std::string>& overrides = {});
 
 } // namespace talus
+
+namespace talus {
+
+/// Where two cases differ, each given as its text and --set overrides (both already read
+/// without error): the key paths ("time.end_time", "materials[0].cohesion") whose values
+/// differ or that only one case has. Comments and layout are not differences; values are
+/// compared as written ("1e3" and "1000" differ).
+std::vector<std::string> case_differences(const std::string& text_a,
+                                          const std::vector<std::string>& overrides_a,
+                                          const std::string& text_b,
+                                          const std::vector<std::string>& overrides_b);
+
+} // namespace talus

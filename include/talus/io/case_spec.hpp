@@ -229,7 +229,15 @@ enum class OutputField {
   ReferencePosition ///< x0, the position in the reference configuration (displacement x - x0)
 };
 
+/// output.checkpoint: when a run saves the state it can resume from (talus run --resume);
+/// also at every stage end and on SIGINT/SIGTERM. The last two checkpoints are kept.
+struct CheckpointSpec {
+  std::optional<Index> every_steps;    ///< after every N completed steps
+  std::optional<double> every_seconds; ///< s of wall time since the last checkpoint
+};
+
 struct OutputSpec {
+  std::optional<CheckpointSpec> checkpoint; ///< none: no checkpoints
   std::optional<Index> every_steps; ///< write a frame every N steps; default: 20 frames per run
   std::optional<double> every_time; ///< s, write a frame every interval
   /// Default: the six kinematic and stress fields, plus plastic_strain when any material is

@@ -46,24 +46,11 @@ template <int Dim> struct FramePost {
 /// run is interrupted later.
 class ResultsWriter {
 public:
-  /// Creates `dir`/run.h5 (replacing an existing one) and writes the metadata.
-  ResultsWriter(std::filesystem::path dir, RunMetadata metadata);
-  /// Dim must be the metadata's dimension.
-  template <int Dim>
-  void write_frame(Index step, double time, const Particles<Dim>& particles,
-                   const std::vector<OutputField>& fields, const FramePost<Dim>& post = {});
-  Index frames_written() const { return frames_; }
-  const std::filesystem::path& h5_path() const { return h5_path_; }
-
-private:
-  void write_xdmf() const;
-  std::filesystem::path dir_, h5_path_, xmf_path_;
-  RunMetadata metadata_;
-  Index frames_ = 0;
-  struct FrameInfo {
-    Index step;
-    double time;
-    Index particles;
+  /// What run.xmf says about one frame (kept in a checkpoint, so a resumed run can rewrite it).
+  struct FrameRecord {
+    Index step = 0;
+    double time = 0;
+    Index particles = 0;
     std::vector<OutputField> fields;
     bool recovered = false; ///< has stress_smoothed and grid/
     bool voxels = false;    ///< has voxels/
@@ -71,7 +58,27 @@ private:
     std::array<Index, 3> grid_nodes{1, 1, 1};
     Vec3 grid_origin{0, 0, 0};
   };
-  std::vector<FrameInfo> frame_info_;
+
+  /// Creates `dir`/run.h5 (replacing an existing one) and writes the metadata.
+  ResultsWriter(std::filesystem::path dir, RunMetadata metadata);
+  /// Continues `dir`/run.h5 of a resumed run: keeps the frames in `kept` (the first
+  /// kept.size() frames of the file), deletes any written after them, rewrites run.xmf.
+  /// Throws std::runtime_error if the file lacks one of the kept frames.
+  ResultsWriter(std::filesystem::path dir, RunMetadata metadata, std::vector<FrameRecord> kept);
+  /// Dim must be the metadata's dimension.
+  template <int Dim>
+  void write_frame(Index step, double time, const Particles<Dim>& particles,
+                   const std::vector<OutputField>& fields, const FramePost<Dim>& post = {});
+  Index frames_written() const { return frames_; }
+  const std::vector<FrameRecord>& frames() const { return frame_info_; }
+  const std::filesystem::path& h5_path() const { return h5_path_; }
+
+private:
+  void write_xdmf() const;
+  std::filesystem::path dir_, h5_path_, xmf_path_;
+  RunMetadata metadata_;
+  Index frames_ = 0;
+  std::vector<FrameRecord> frame_info_;
 };
 
 /// Reads run.h5 back (tests, `talus render`, restart).
@@ -109,7 +116,10 @@ private:
 /// timeseries.csv: one header line, one row per call, flushed so a killed run keeps its rows.
 class TimeSeriesWriter {
 public:
-  TimeSeriesWriter(const std::filesystem::path& file, std::vector<std::string> columns);
+  /// Creates `file` with the header line. `append`: continues an existing file (a resumed run,
+  /// which has cut it back to the checkpoint's rows), writing no header.
+  TimeSeriesWriter(const std::filesystem::path& file, std::vector<std::string> columns,
+                   bool append = false);
   ~TimeSeriesWriter();
   TimeSeriesWriter(const TimeSeriesWriter&) = delete;
   TimeSeriesWriter& operator=(const TimeSeriesWriter&) = delete;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace talus {
 
@@ -67,6 +68,11 @@ public:
   /// `sources` (material-point splitting): per-point history is copied the same way. History
   /// is indexed by the scene's point index, so this covers every point, of any material.
   virtual void append_copies(Index /*old_count*/, std::span<const Index> /*sources*/) {}
+  /// The converged per-point history, flattened, for a checkpoint (empty: nothing to keep).
+  virtual std::vector<double> history() const { return {}; }
+  /// Restores what history() returned (talus run --resume). Throws std::runtime_error if the
+  /// values do not fit this model.
+  virtual void restore_history(std::span<const double> values);
 
 private:
   std::string name_;

@@ -33,6 +33,9 @@ public:
   void plastic_strain(std::span<const Index> ids, std::span<double> out) const override;
   void set_initial_stress(std::span<const Index> ids, std::span<const Mat3> stress) override;
   void append_copies(Index old_count, std::span<const Index> sources) override;
+  /// Per point: the elastic strain (9), kappa, the F it was stored with (9), the last return.
+  std::vector<double> history() const override;
+  void restore_history(std::span<const double> values) override;
 
   const PlasticModel& model() const { return *model_; }
   /// Swaps the return map for one of the same material with another strength (a stage's

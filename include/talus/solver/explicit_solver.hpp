@@ -35,7 +35,10 @@ public:
   virtual void particles_changed() = 0;
 };
 
-/// Picks the shape-function instantiation once, for the whole run.
-template <int Dim> std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene);
+/// Picks the shape-function instantiation once, for the whole run. The points' stresses are
+/// evaluated from their F first, unless `stress_current` (a stage resumed from a checkpoint).
+template <int Dim>
+std::unique_ptr<ExplicitSolver> make_explicit_solver(Scene<Dim>& scene,
+                                                     bool stress_current = false);
 
 } // namespace talus

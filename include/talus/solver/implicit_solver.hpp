@@ -86,6 +86,15 @@ public:
   /// resizes the per-point trial state.
   virtual void particles_changed() = 0;
 
+  /// What the solver carries from one step to the next beyond the scene's points: a
+  /// checkpoint keeps it, a resumed run hands it to continue_from() before its first step.
+  struct Continuation {
+    double prescribed_fraction = 0; ///< of the prescribed displacements, reached so far
+    bool line_search_first = false; ///< the last step converged with the line search
+  };
+  virtual Continuation continuation() const = 0;
+  virtual void continue_from(const Continuation& c) = 0;
+
   // --- assembly by shares (step() runs them as one share) -----------------------------------
   /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
   /// step's start, the global DOF numbering (unknowns() of them), node masses and loads.

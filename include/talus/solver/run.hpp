@@ -31,6 +31,12 @@ struct RunOptions {
   /// Implicit runs: where to write the last Newton iteration's tangent (Matrix Market), for
   /// timing the linear solver on a real system (bench/bench_dumped_tangent.cpp); empty: none.
   std::filesystem::path dump_tangent{};
+  /// Continue the run in out_dir (which must be given) from its newest valid checkpoint
+  /// (output.checkpoint): frames, timeseries.csv, newton.log and summary.json go on from there.
+  bool resume = false;
+  /// With resume: allow the case to differ from the checkpoint's in the keys that may safely
+  /// change (end times, max_steps, wall-time limits, output); others are always refused.
+  bool accept_changes = false;
   /// Called with the state a 2D (3D) run ended in (any status), before summary.json is
   /// written: lets a caller (talus adapt) inspect the points without reading the results back.
   std::function<void(const Scene<2>&)> final_state{};

@@ -33,6 +33,19 @@ public:
   /// The stage stopped on its wall-time limit (the run stops too).
   bool out_of_time() const { return out_of_time_; }
 
+  /// What the watch has seen of the stage so far (a checkpoint keeps it). The wall-time
+  /// allowance is not part of it: a resumed stage has its full allowance again, as a job
+  /// resumed on a cluster has a new allocation.
+  struct Memory {
+    double peak_kinetic = 0;
+    std::optional<double> quiet_since{};
+  };
+  Memory memory() const { return {peak_kinetic_, quiet_since_}; }
+  void recall(const Memory& m) {
+    peak_kinetic_ = m.peak_kinetic;
+    quiet_since_ = m.quiet_since;
+  }
+
 private:
   const StageSpec& stage_;
   std::chrono::steady_clock::time_point started_;

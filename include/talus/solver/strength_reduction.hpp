@@ -9,6 +9,7 @@
 // trial stops there instead of carrying the rest of its load). The search brackets the
 // critical factor and bisects.
 #include "talus/io/case_spec.hpp"
+#include "talus/solver/run.hpp"
 
 #include <filesystem>
 #include <functional>
@@ -37,7 +38,6 @@ struct StrengthTrial {
   double crest_displacement() const;
 };
 
-struct RunResult;
 
 /// What a trial's run says about the trial factor: it stood (the full load, the crest within
 /// `displacement_limit`) or failed, and why: interrupted, stopped by the crest limit during
@@ -72,14 +72,23 @@ FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
 /// F = lower and then lowers the strength step by step from the loaded state. Its "trials" are
 /// the run's steps (the factor each reached and the crest there), the last one the failure;
 /// the run's Newton iterations, cut-backs and time are on the last row.
-FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::filesystem::path& dir,
-                                            int threads, bool& interrupted);
-
 struct FosOptions {
   std::filesystem::path out_dir; ///< empty: results/<case name>-fos
   bool force = false;            ///< replace the files of an earlier search in out_dir
   int threads = 0;               ///< OpenMP threads of each trial; 0 keeps the default
+  /// Continue the search in out_dir (which must be given): finished trials are kept, the one
+  /// that was cut short continues from its newest checkpoint (or starts again without one).
+  bool resume = false;
+  bool accept_changes = false; ///< with resume: as RunOptions::accept_changes
 };
+
+FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::filesystem::path& dir,
+                                            const FosOptions& search, bool& interrupted);
+
+/// A trial's run into options.out_dir. Resuming a search (search.resume), a run that finished
+/// there is taken from its summary.json as it is, one that was cut short continues from its
+/// newest checkpoint, and one without a checkpoint starts again.
+RunResult run_or_resume_trial(const CaseSpec& spec, RunOptions options, const FosOptions& search);
 
 struct FosRunResult {
   FactorOfSafety fos;

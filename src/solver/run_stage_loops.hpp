@@ -1,0 +1,378 @@
+#pragma once
+// Internal to run_case (src/solver/run.cpp): the stepping loops of one stage, explicit and
+// implicit, and what they share: the loop's state (time, step, the checkpoint hook), the
+// stage's strength factor, splitting after a step, the stop conditions.
+#include "run_recorder.hpp"
+#include "talus/core/errors.hpp"
+#include "talus/core/scene.hpp"
+#include "talus/core/splitting.hpp"
+#include "talus/material/plastic_material.hpp"
+#include "talus/solver/explicit_solver.hpp"
+#include "talus/solver/implicit_solver.hpp"
+#include "talus/solver/run.hpp"
+#include "talus/solver/stage_watch.hpp"
+#include "talus/solver/state_guard.hpp"
+#include "talus/solver/strength_reduction.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fmt/format.h>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace talus::run_detail {
+
+/// Set by SIGINT/SIGTERM while a run steps: the loops stop after the step in progress.
+inline std::atomic<bool> g_interrupted{false};
+
+struct LoopState {
+  double t = 0;               ///< the stage's time
+  Index step = 0;             ///< steps of the whole run
+  Index stage_first_step = 0; ///< `step` when the current stage began
+  /// RunOptions::stop_after_step, and what it said when it ended the run.
+  std::function<std::optional<std::string>(std::span<const ProbeState>, double)> stop_after_step{};
+  std::optional<std::string> stopped{};
+  // --- checkpoints ---
+  /// Called after each completed step and when an interrupt is noticed: writes a checkpoint
+  /// when one is due (run_case_in decides).
+  std::function<void()> checkpoint{};
+  /// Adds what the stage in progress has counted but not yet put into the run's numbers.
+  std::function<void(std::map<std::string, double>&)> stage_totals{};
+  /// The first stage loop of a resumed run continues a stage a checkpoint interrupted.
+  bool resumed_mid_stage = false;
+  double implicit_dt = 0; ///< implicit: the load step now (0: time.dt)
+  int easy_steps = 0;     ///< implicit: easy steps in a row
+  ImplicitSolver::Continuation continuation{};
+
+  void checkpoint_if_due() const {
+    if (checkpoint)
+      checkpoint();
+  }
+};
+
+/// The probes' points now and at the start, for RunOptions::stop_after_step.
+template <int Dim> std::vector<ProbeState> probe_states(const Scene<Dim>& scene) {
+  std::vector<ProbeState> out;
+  for (std::size_t k = 0; k < scene.probe_particles.size(); ++k) {
+    const auto p = static_cast<std::size_t>(scene.probe_particles[k]);
+    out.push_back({scene.probe_names[k], padded<Dim>(scene.particles.x0[p]),
+                   padded<Dim>(scene.particles.x[p])});
+  }
+  return out;
+}
+
+/// Asks RunOptions::stop_after_step, if the run has one, after a completed step.
+template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double time) {
+  if (s.stop_after_step)
+    s.stopped = s.stop_after_step(probe_states(scene), time);
+}
+
+inline void check_limits(const TimeSpec& time, const LoopState& s) {
+  if (s.step - s.stage_first_step >= time.max_steps)
+    throw NumericalError(fmt::format("reached max_steps = {} at t = {:g} before end_time = "
+                                     "{:g}; raise time.max_steps or the time step",
+                                     time.max_steps, s.t, time.end_time));
+}
+
+// Time steps shorter than this fraction of the nominal step are absorbed into the previous
+// one, so round-off never produces a sliver step at an output time or the end.
+constexpr double kSliver = 1e-9;
+
+/// Gives the frictional materials the strength c / F, tan(phi) / F. They keep their history;
+/// only the return map changes.
+template <int Dim> void set_strength(Scene<Dim>& scene, const CaseSpec& case_spec, double factor) {
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    if (auto* plastic = dynamic_cast<PlasticMaterial*>(scene.materials[m].get()))
+      plastic->replace_model(make_plastic_model(reduce_strength(case_spec.materials[m], factor)));
+}
+
+/// The strength of the frictional materials during a stage: F moving from the factor the stage
+/// started from to the stage's own over a quasi-static stage, or set at the start of a dynamic
+/// one.
+template <int Dim> class StageStrength {
+public:
+  /// `applied`: the factor the materials have now, kept up to date as the factor changes (the
+  /// caller's record outlives a failed stage); `start`: the factor the stage started from (the
+  /// previous stage's); `end`: the stage's.
+  StageStrength(Scene<Dim>& scene, const CaseSpec& case_spec, double& applied, double start,
+                double end)
+      : scene_(scene), case_spec_(case_spec), start_(start), end_(end), applied_(applied) {}
+
+  /// Sets the factor for a step that ends at the fraction `progress` of the stage.
+  void at(double progress) {
+    const double factor = scene_.spec.analysis == AnalysisType::ImplicitQuasistatic
+                              ? start_ + (end_ - start_) * progress
+                              : end_;
+    if (factor == applied_)
+      return;
+    set_strength(scene_, case_spec_, factor);
+    applied_ = factor;
+  }
+  double factor() const { return applied_; }
+  double start() const { return start_; }
+
+private:
+  Scene<Dim>& scene_;
+  const CaseSpec& case_spec_; ///< the case as written, full strength
+  double start_, end_;
+  double& applied_; ///< the factor the materials' return maps have
+};
+
+/// Splits the points that meet their body's criterion after a completed step (a converged one
+/// in the implicit analyses), so every step starts from a consistent set of points.
+template <int Dim, class Solver>
+void split_after_step(Scene<Dim>& scene, Solver& solver, RunResult& result) {
+  const Index splits = split_material_points(scene);
+  if (splits == 0)
+    return;
+  solver.particles_changed();
+  result.extra["splits"] += static_cast<double>(splits);
+}
+
+/// Writes A in Matrix Market coordinate format (both triangles, 1-based).
+inline void write_matrix_market(const std::filesystem::path& file, const SparseMatrix& A) {
+  std::ofstream out(file);
+  out << "%%MatrixMarket matrix coordinate real general\n"
+      << A.rows() << ' ' << A.cols() << ' ' << A.nonZeros() << '\n';
+  out.precision(17);
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      out << it.row() + 1 << ' ' << c + 1 << ' ' << it.value() << '\n';
+  if (!out)
+    throw std::runtime_error("cannot write " + file.string());
+}
+
+/// Explicit dynamics: CFL or fixed steps until end_time.
+template <int Dim>
+void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
+                  StageWatch& watch) {
+  auto solver = make_explicit_solver(scene, s.resumed_mid_stage);
+  const TimeSpec& time = scene.spec.time;
+  if (s.step == 0)
+    rec.append_row(solver->energies(), solver->reactions(), {}, 0, 0, 0);
+  // The stepping loop's own time (summary.json "seconds_stepping"): throughput figures leave
+  // out building the scene and writing results.
+  const auto loop_start = std::chrono::steady_clock::now();
+  const double frame_seconds_before = rec.frame_seconds;
+  const Index steps_before = s.step;
+  const auto add_loop_time = [&](std::map<std::string, double>& x) {
+    x["seconds_stepping"] +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count() -
+        (rec.frame_seconds - frame_seconds_before);
+    x["steps_stepping"] += static_cast<double>(s.step - steps_before);
+  };
+  const auto record_loop_time = [&] {
+    add_loop_time(result.extra);
+    s.stage_totals = nullptr;
+  };
+  s.stage_totals = add_loop_time;
+  s.resumed_mid_stage = false;
+  while (s.t < time.end_time * (1.0 - 1e-14)) {
+    check_limits(time, s);
+    if (g_interrupted) {
+      s.checkpoint_if_due();
+      record_loop_time();
+      return;
+    }
+    double dt = time.dt ? *time.dt : solver->stable_dt(*time.cfl);
+    if (!(dt > 0) || !std::isfinite(dt))
+      throw NumericalError(fmt::format("time step became {:g}", dt));
+    const double target = rec.target(time.end_time);
+    if (s.t + dt * (1.0 + kSliver) >= target)
+      dt = target - s.t;
+    const double t_end = (s.t + dt >= target) ? target : s.t + dt;
+    // Above the Courant limit the step would amplify every mode: stop before taking it, with
+    // the state, still good, as the last frame.
+    if (time.dt)
+      if (auto violation = find_courant_violation(scene, dt)) {
+        rec.final_frame(s.step, s.t);
+        rec.stop_if_violated(violation, fmt::format("before the step from t = {:g}", s.t));
+      }
+    const std::string at_end = fmt::format("at the end of the step (t = {:g})", t_end);
+    auto guard = [&] {
+      rec.stop_if_violated(solver->grid_violation(), at_end);
+      rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
+    };
+    watch.before_step(scene.particles);
+    try {
+      solver->step(dt);
+    } catch (const NumericalError&) {
+      // A material that met det F <= 0 or a point that left the grid: name the point if the
+      // state shows it, otherwise pass the solver's own message on.
+      guard();
+      throw;
+    }
+    guard();
+    s.t = t_end;
+    ++s.step;
+    const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
+    ask_stop(s, scene, rec.stage_start_time + s.t);
+    split_after_step(scene, *solver, result);
+    const Energies e = solver->energies();
+    if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
+      throw NumericalError("non-finite energy");
+    rec.after_step(s.step, s.t, dt, e, solver->reactions(), {}, {});
+    s.checkpoint_if_due();
+    if (stage_ends || s.stopped)
+      break;
+  }
+  record_loop_time();
+  rec.final_frame(s.step, s.t);
+  result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
+}
+
+/// Implicit analyses: steps cut back (halved) when Newton fails and
+/// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
+/// residual history goes to newton.log. A failure at the minimum step ends the run after
+/// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
+/// the stage's pseudo-time (the first stage); otherwise they act in full.
+template <int Dim>
+void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
+                  const std::filesystem::path& out_dir, StageWatch& watch,
+                  StageStrength<Dim>& strength, bool loads_ramp,
+                  const std::filesystem::path& dump_tangent) {
+  auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
+  result.linear_solver = solver->linear_solver();
+  const TimeSpec& time = scene.spec.time;
+  const double dt0 = *time.dt;
+  const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
+  double dt = dt0;
+  int easy_steps = 0;
+  const bool resumed = s.resumed_mid_stage;
+  s.resumed_mid_stage = false;
+  if (resumed) {
+    solver->continue_from(s.continuation);
+    dt = s.implicit_dt;
+    easy_steps = s.easy_steps;
+  }
+  // One log for the run: the first stage creates it, later stages append.
+  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), s.step == 0 ? "w" : "a");
+  if (!log)
+    throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
+  if (s.step == 0)
+    std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
+  if (!scene.spec.stages.empty() && !resumed)
+    std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
+                 scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
+  Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
+        max_iterations = 0;
+  if (s.step == 0)
+    rec.append_row(solver->energies(), solver->reactions(), solver->prescribed_reactions(), 0, 0,
+                   0);
+  // The stage's counts into the run's numbers: at the stage's end (with its load steps), or
+  // into a checkpoint's copy of them (the load steps follow from the steps then).
+  auto add_totals = [&](std::map<std::string, double>& x, bool with_load_steps) {
+    if (with_load_steps)
+      x["load_steps"] += static_cast<double>(s.step - s.stage_first_step);
+    x["newton_iterations"] += static_cast<double>(newton_iterations);
+    x["newton_iterations_max_per_step"] =
+        std::max(x["newton_iterations_max_per_step"], static_cast<double>(max_iterations));
+    x["linear_solves"] += static_cast<double>(linear_solves);
+    x["linear_iterations"] += static_cast<double>(linear_iterations);
+    x["cutbacks"] += static_cast<double>(cutbacks);
+    const ImplicitTimings t = solver->timings();
+    for (const auto& [key, seconds] : implicit_phases(t))
+      x[key] += seconds;
+    x["unknowns_last_step"] = static_cast<double>(solver->unknowns());
+  };
+  s.stage_totals = [&](std::map<std::string, double>& x) { add_totals(x, false); };
+  auto record_totals = [&] {
+    s.stage_totals = nullptr;
+    add_totals(result.extra, true);
+    if (!dump_tangent.empty())
+      write_matrix_market(dump_tangent, solver->last_tangent());
+  };
+  try {
+    while (s.t < time.end_time * (1.0 - 1e-14)) {
+      check_limits(time, s);
+      if (g_interrupted) {
+        s.checkpoint_if_due();
+        break;
+      }
+      const double target = rec.target(time.end_time);
+      double step_dt = std::min(dt, target - s.t);
+      if (s.t + step_dt * (1.0 + kSliver) >= target)
+        step_dt = target - s.t;
+      const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
+      // Quasi-static loads ramp with the first stage's pseudo-time; dynamic loads act in full
+      // from t = 0, and after the first stage every load does.
+      const bool dynamic = scene.spec.analysis == AnalysisType::ImplicitDynamic;
+      const double ramp = loads_ramp ? t_end / time.end_time : 1.0;
+      strength.at(t_end / time.end_time);
+      watch.before_step(scene.particles);
+      const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
+      newton_iterations += r.iterations;
+      linear_solves += r.linear_solves;
+      linear_iterations += r.linear_iterations;
+      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1),
+                   rec.stage_start_time + t_end, step_dt, r.converged ? "yes" : "no", r.iterations);
+      if (!r.abandoned_history.empty()) {
+        std::fprintf(log, " [%s:", r.abandoned_line_search ? "line search" : "plain Newton");
+        for (double v : r.abandoned_history)
+          std::fprintf(log, " %.3e", v);
+        std::fprintf(log, "; %s:]", r.abandoned_line_search ? "plain Newton" : "line search");
+      }
+      for (double v : r.residual_history)
+        std::fprintf(log, " %.3e", v);
+      std::fprintf(log, "%s%s\n", r.converged ? "" : "  ", r.message.c_str());
+      std::fflush(log);
+      if (!r.converged) {
+        ++cutbacks;
+        easy_steps = 0;
+        if (step_dt <= min_dt * (1.0 + 1e-12))
+          throw NumericalError(fmt::format(
+              "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}{}): "
+              "{}",
+              step_dt, s.t, t_end,
+              strength.factor() != 1.0 ? fmt::format(", strength factor {:.6g}", strength.factor())
+                                       : "",
+              r.message));
+        dt = std::max(0.5 * step_dt, min_dt);
+        s.implicit_dt = dt; // an interrupt now resumes with the cut-back step
+        s.easy_steps = easy_steps;
+        continue;
+      }
+      rec.stop_if_violated(find_particle_violation(scene.particles),
+                           fmt::format("after the converged step to t = {:g}", t_end));
+      max_iterations = std::max<Index>(max_iterations, r.iterations);
+      s.t = t_end;
+      ++s.step;
+      const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
+      ask_stop(s, scene, rec.stage_start_time + s.t);
+      split_after_step(scene, *solver, result);
+      const int easy = scene.spec.solver.easy_newton_iterations;
+      if (r.iterations <= easy && ++easy_steps >= 2) {
+        dt = std::min(2.0 * dt, dt0);
+        easy_steps = 0;
+      } else if (r.iterations > easy) {
+        easy_steps = 0;
+      }
+      rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
+                     solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
+      s.implicit_dt = dt;
+      s.easy_steps = easy_steps;
+      s.continuation = solver->continuation();
+      s.checkpoint_if_due();
+      if (stage_ends || s.stopped)
+        break;
+    }
+  } catch (const StateGuardError&) {
+    record_totals();
+    throw;
+  } catch (const NumericalError&) {
+    record_totals();
+    rec.final_frame(s.step, s.t); // the last converged state
+    throw;
+  }
+  record_totals();
+  rec.final_frame(s.step, s.t);
+}
+
+} // namespace talus::run_detail
