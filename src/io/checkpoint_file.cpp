@@ -42,13 +42,16 @@ template <class T> T read_raw(const std::vector<unsigned char>& in, std::size_t 
   return value;
 }
 
-std::uint32_t crc_of(const unsigned char* data, std::size_t n) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  // zlib takes a uInt length: feed large payloads in pieces.
+/// `crc` continued over n more bytes (zlib takes a uInt length: large inputs go in pieces).
+unsigned long crc_of_more(unsigned long crc, const unsigned char* data, std::size_t n) {
   constexpr std::size_t kPiece = 1u << 30;
   for (std::size_t at = 0; at < n; at += kPiece)
     crc = crc32(crc, data + at, static_cast<uInt>(std::min(kPiece, n - at)));
-  return static_cast<std::uint32_t>(crc);
+  return crc;
+}
+
+std::uint32_t crc_of(const unsigned char* data, std::size_t n) {
+  return static_cast<std::uint32_t>(crc_of_more(crc32(0L, Z_NULL, 0), data, n));
 }
 
 /// Writes all of `data` to fd; false (errno set) on failure.
@@ -72,15 +75,66 @@ const char* kind_name(std::uint8_t kind) {
 
 } // namespace
 
+/// Written to the file whenever the buffer holds this much.
+constexpr std::size_t kBufferBytes = 1u << 20;
+
+CheckpointWriter::CheckpointWriter(fs::path file)
+    : file_(std::move(file)), tmp_(file_.string() + ".tmp") {
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0)
+    fail("open");
+  crc_ = crc32(0L, Z_NULL, 0);
+  buffer_.reserve(kBufferBytes);
+  append(kMagic, sizeof kMagic);
+}
+
+CheckpointWriter::~CheckpointWriter() {
+  if (fd_ >= 0)
+    ::close(fd_);
+  if (!committed_)
+    ::unlink(tmp_.c_str());
+}
+
+void CheckpointWriter::fail(const char* what) {
+  const int err = errno;
+  if (fd_ >= 0)
+    ::close(fd_);
+  fd_ = -1;
+  ::unlink(tmp_.c_str());
+  throw std::runtime_error(fmt::format("cannot write checkpoint '{}': {}: {}", file_.string(), what,
+                                       std::strerror(err)));
+}
+
+void CheckpointWriter::flush() {
+  crc_ = crc_of_more(crc_, buffer_.data(), buffer_.size());
+  if (!write_all(fd_, buffer_.data(), buffer_.size()))
+    fail("write");
+  length_ += buffer_.size();
+  buffer_.clear();
+}
+
+void CheckpointWriter::append(const void* data, std::size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  while (n > 0) {
+    const std::size_t take = std::min(n, kBufferBytes - buffer_.size());
+    buffer_.insert(buffer_.end(), p, p + take);
+    p += take;
+    n -= take;
+    if (buffer_.size() == kBufferBytes)
+      flush();
+  }
+}
+
 void CheckpointWriter::record(const std::string& name, std::uint8_t kind, std::uint64_t count,
                               const void* data, std::size_t bytes) {
-  if (payload_.empty())
-    append_bytes(payload_, kMagic, sizeof kMagic);
-  append_raw(payload_, static_cast<std::uint32_t>(name.size()));
-  append_bytes(payload_, name.data(), name.size());
-  append_raw(payload_, kind);
-  append_raw(payload_, count);
-  append_bytes(payload_, data, bytes);
+  if (fd_ < 0 || committed_)
+    throw std::logic_error("CheckpointWriter: entry '" + name + "' after commit or a failure");
+  const auto name_length = static_cast<std::uint32_t>(name.size());
+  append(&name_length, sizeof name_length);
+  append(name.data(), name.size());
+  append(&kind, sizeof kind);
+  append(&count, sizeof count);
+  append(data, bytes);
 }
 
 void CheckpointWriter::put(const std::string& name, std::span<const double> values) {
@@ -95,36 +149,25 @@ void CheckpointWriter::put_text(const std::string& name, const std::string& text
   record(name, kText, text.size(), text.data(), text.size());
 }
 
-void CheckpointWriter::write(const fs::path& file) const {
+void CheckpointWriter::commit() {
+  flush();
   std::vector<unsigned char> trailer;
-  const std::uint64_t length = payload_.size();
-  append_raw(trailer, length);
-  append_raw(trailer, crc_of(payload_.data(), payload_.size()));
+  append_raw(trailer, length_);
+  append_raw(trailer, static_cast<std::uint32_t>(crc_));
   append_bytes(trailer, kEnd, sizeof kEnd);
-
-  const fs::path tmp = file.string() + ".tmp";
-  const auto fail = [&](const char* what, int fd) {
-    const int err = errno;
-    if (fd >= 0)
-      ::close(fd);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot write checkpoint '{}': {}: {}", file.string(),
-                                         what, std::strerror(err)));
-  };
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0)
-    fail("open", -1);
-  if (!write_all(fd, payload_.data(), payload_.size()) ||
-      !write_all(fd, trailer.data(), trailer.size()))
-    fail("write", fd);
-  if (::fsync(fd) != 0)
-    fail("fsync", fd);
+  if (!write_all(fd_, trailer.data(), trailer.size()))
+    fail("write");
+  if (::fsync(fd_) != 0)
+    fail("fsync");
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0)
-    fail("close", -1);
-  if (::rename(tmp.c_str(), file.c_str()) != 0)
-    fail("rename", -1);
+    fail("close");
+  if (::rename(tmp_.c_str(), file_.c_str()) != 0)
+    fail("rename");
+  committed_ = true;
   // The rename itself reaches the disk with the directory's entry.
-  const int dir = ::open(file.parent_path().empty() ? "." : file.parent_path().c_str(),
+  const int dir = ::open(file_.parent_path().empty() ? "." : file_.parent_path().c_str(),
                          O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
     ::fsync(dir);

@@ -286,10 +286,11 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     p.last_frame_time = recorder.last_frame_time;
     p.frame_seconds = recorder.frame_seconds;
     p.post_seconds = recorder.post_seconds;
-    CheckpointWriter file;
+    CheckpointWriter file(run_detail::checkpoint_file(result.out_dir, state.step));
     run_detail::put_progress(file, p);
     save_scene_state(scene, file);
-    run_detail::write_checkpoint(result.out_dir, state.step, file);
+    file.commit();
+    run_detail::prune_checkpoints(result.out_dir);
     last_checkpoint = std::chrono::steady_clock::now();
     result.extra["seconds_checkpoint"] +=
         std::chrono::duration<double>(last_checkpoint - start).count();

@@ -174,11 +174,14 @@ RunProgress read_progress(const CheckpointReader& in) {
   return p;
 }
 
-void write_checkpoint(const fs::path& out_dir, Index step, const CheckpointWriter& out) {
+fs::path checkpoint_file(const fs::path& out_dir, Index step) {
   const fs::path dir = checkpoint_dir(out_dir);
   fs::create_directories(dir);
-  out.write(dir / checkpoint_name(step));
-  const auto all = list_checkpoints(dir);
+  return dir / checkpoint_name(step);
+}
+
+void prune_checkpoints(const fs::path& out_dir) {
+  const auto all = list_checkpoints(checkpoint_dir(out_dir));
   std::error_code ec;
   for (std::size_t k = kKept; k < all.size(); ++k)
     fs::remove(all[k], ec);

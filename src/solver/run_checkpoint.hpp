@@ -58,9 +58,11 @@ std::filesystem::path checkpoint_dir(const std::filesystem::path& out_dir);
 void put_progress(CheckpointWriter& out, const RunProgress& progress);
 RunProgress read_progress(const CheckpointReader& in);
 
-/// Writes `out` as the checkpoint after `step` steps and removes all but the newest two.
-void write_checkpoint(const std::filesystem::path& out_dir, Index step,
-                      const CheckpointWriter& out);
+/// The file of the checkpoint after `step` steps (its folder created).
+std::filesystem::path checkpoint_file(const std::filesystem::path& out_dir, Index step);
+
+/// Removes all but the newest two checkpoints.
+void prune_checkpoints(const std::filesystem::path& out_dir);
 
 /// The newest checkpoint of the run in out_dir that reads back whole; the ones skipped on the
 /// way, each with why, in `skipped`. Throws InputError (key --resume) when there is none.

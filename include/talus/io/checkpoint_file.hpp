@@ -16,9 +16,18 @@
 
 namespace talus {
 
-/// A checkpoint being assembled in memory; write() puts it on disk in one go.
+/// A checkpoint being written: the entries stream into `file`.tmp as they are put (a buffer of
+/// at most 1 MiB, so a checkpoint costs little memory beyond the arrays it is given), and
+/// commit() makes it `file`. A writer destroyed without commit() removes its temporary file.
+/// Every failure (a full disk, say) throws std::runtime_error naming the file and the system's
+/// reason; the file that was there before is then untouched.
 class CheckpointWriter {
 public:
+  explicit CheckpointWriter(std::filesystem::path file);
+  ~CheckpointWriter();
+  CheckpointWriter(const CheckpointWriter&) = delete;
+  CheckpointWriter& operator=(const CheckpointWriter&) = delete;
+
   void put(const std::string& name, std::span<const double> values);
   void put(const std::string& name, std::span<const std::int64_t> values);
   void put(const std::string& name, double value) { put(name, std::span<const double>(&value, 1)); }
@@ -27,16 +36,24 @@ public:
   }
   void put_text(const std::string& name, const std::string& text);
 
-  /// Writes `file` atomically: `file`.tmp, fsync, rename, fsync of the directory. Throws
-  /// std::runtime_error naming the file and the system's reason (a full disk, say); the file
-  /// that was there before is then untouched and the temporary removed.
-  void write(const std::filesystem::path& file) const;
-  std::size_t bytes() const { return payload_.size(); }
+  /// The trailer, fsync, rename over `file`, fsync of the directory.
+  void commit();
+  /// Bytes written so far.
+  std::uint64_t bytes() const { return length_ + buffer_.size(); }
 
 private:
   void record(const std::string& name, std::uint8_t kind, std::uint64_t count, const void* data,
               std::size_t bytes);
-  std::vector<unsigned char> payload_;
+  void append(const void* data, std::size_t n);
+  void flush();
+  [[noreturn]] void fail(const char* what);
+
+  std::filesystem::path file_, tmp_;
+  int fd_ = -1;
+  bool committed_ = false;
+  std::vector<unsigned char> buffer_;
+  std::uint64_t length_ = 0; ///< bytes flushed to the file
+  unsigned long crc_ = 0;    ///< zlib CRC-32 of the flushed bytes
 };
 
 /// A checkpoint read back whole and checked.
