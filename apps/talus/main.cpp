@@ -267,7 +267,8 @@ int main(int argc, char** argv) {
                     "Runs per configuration for the median (default 3, at least 3)");
   bench->add_flag("--quick", bench_options.quick, "Leave out the finest resolution");
   bench->add_option("--vs", bench_options.baseline,
-                    "newton_cost: an older talus binary, run alternately with this one");
+                    "newton_cost, explicit_throughput: an older talus binary, run alternately with "
+                    "this one");
   bench
       ->add_option("--threads", bench_options.threads,
                    "OpenMP threads of each run (default 1; 0: all cores)")

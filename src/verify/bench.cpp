@@ -282,8 +282,10 @@ int run_bench(const BenchOptions& options) {
     throw InputError(
         {"--repeats", 0, 0, ""},
         fmt::format("at least 3 repeats are needed for a median (got {})", options.repeats));
-  if (!options.baseline.empty() && options.case_name != "newton_cost")
-    throw InputError({"--vs", 0, 0, ""}, "only --case newton_cost compares with another binary");
+  if (!options.baseline.empty() && options.case_name != "newton_cost" &&
+      options.case_name != "explicit_throughput")
+    throw InputError({"--vs", 0, 0, ""}, "only --case newton_cost and explicit_throughput "
+                                         "compare with another binary");
   if (!options.baseline.empty() && !std::filesystem::is_regular_file(options.baseline))
     throw InputError({"--vs", 0, 0, ""},
                      fmt::format("'{}' is not a file", options.baseline.string()));
@@ -334,14 +336,7 @@ int run_bench(const BenchOptions& options) {
   write_csv(csv, options.case_name, rows);
   print_table(options.case_name, rows, baseline_mb, options.repeats, options.threads);
 
-  const fs::path png = out / "bench.png";
-  const fs::path plot_log = out / "plot.log";
-  const ChildResult plot = spawn_and_wait(
-      "/usr/bin/python3", {plot_script.string(), csv.string(), png.string()}, plot_log);
-  if (plot.exit_code != 0)
-    throw std::runtime_error(fmt::format("{} failed (exit {}):\n{}", plot_script.string(),
-                                         plot.exit_code, read_text(plot_log)));
-  fmt::print("\nwrote {} and {}\n", csv.string(), png.string());
+  plot_table(plot_script, csv, out / "bench.png");
   return kExitOk;
 }
 

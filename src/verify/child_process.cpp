@@ -62,6 +62,16 @@ std::string read_text(const fs::path& file) {
   return s.str();
 }
 
+void plot_table(const fs::path& script, const fs::path& csv, const fs::path& png) {
+  const fs::path log = csv.parent_path() / "plot.log";
+  const ChildResult plot =
+      spawn_and_wait("/usr/bin/python3", {script.string(), csv.string(), png.string()}, log);
+  if (plot.exit_code != 0)
+    throw std::runtime_error(
+        fmt::format("{} failed (exit {}):\n{}", script.string(), plot.exit_code, read_text(log)));
+  fmt::print("\nwrote {} and {}\n", csv.string(), png.string());
+}
+
 std::string failure_message(const fs::path& log, int exit_code) {
   std::istringstream in(read_text(log));
   std::string line, last, last_talus;

@@ -21,6 +21,12 @@ ChildResult spawn_and_wait(const std::filesystem::path& program,
 
 std::string read_text(const std::filesystem::path& file);
 
+/// Draws `csv` into `png` with `/usr/bin/python3 script csv png` (its output into plot.log
+/// beside the csv) and says where both are; throws std::runtime_error with that output when
+/// the script fails.
+void plot_table(const std::filesystem::path& script, const std::filesystem::path& csv,
+                const std::filesystem::path& png);
+
 /// The child's error message: its last "talus: ..." line, else its last non-empty line.
 std::string failure_message(const std::filesystem::path& log, int exit_code);
 

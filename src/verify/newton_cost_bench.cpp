@@ -306,14 +306,7 @@ int run_newton_cost_bench(const BenchOptions& options) {
   write_newton_cost_csv(csv, rows);
   print_newton_cost_table(rows, options, baseline_mb);
 
-  const fs::path png = out / "newton_cost.png";
-  const fs::path plot_log = out / "plot.log";
-  const ChildResult plot = spawn_and_wait(
-      "/usr/bin/python3", {plot_script.string(), csv.string(), png.string()}, plot_log);
-  if (plot.exit_code != 0)
-    throw std::runtime_error(fmt::format("{} failed (exit {}):\n{}", plot_script.string(),
-                                         plot.exit_code, read_text(plot_log)));
-  fmt::print("\nwrote {} and {}\n", csv.string(), png.string());
+  plot_table(plot_script, csv, out / "newton_cost.png");
   return kExitOk;
 }
 

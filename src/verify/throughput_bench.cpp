@@ -11,6 +11,9 @@
 //  * Memory per point: the run's peak resident set less the binary's own (`talus info`),
 //    divided by the points; it includes the active grid nodes, which grow with the points.
 //  * The energy drift |E(end) - E(0)| / E(0) (kinetic plus strain) says the run was sound.
+//  * `--vs OLD_TALUS` runs an older binary on the same configuration before each repeat and
+//    reports the median ratio of whole-process wall times (an older binary may not report
+//    the stepping loop's own time).
 #include "talus/verify/bench.hpp"
 
 #include "child_process.hpp"
@@ -50,6 +53,7 @@ struct ThroughputRow {
   double peak_rss_mb = NAN;
   double bytes_per_point = NAN;
   double energy_drift = NAN;
+  double ratio_to_baseline = NAN; ///< median of the repeats' this / --vs whole-process times
   std::string status = "ok";
   std::string message;
 };
@@ -81,8 +85,9 @@ double energy_drift(const fs::path& series_file) {
   return std::abs(kinetic.back() + strain.back() - first) / first;
 }
 
-ThroughputRow run_throughput(const ThroughputConfig& c, int repeats, double baseline_mb,
-                             const fs::path& exe, const fs::path& runs_dir) {
+ThroughputRow run_throughput(const ThroughputConfig& c, const BenchOptions& options,
+                             double baseline_mb, const fs::path& exe, const fs::path& runs_dir) {
+  const int repeats = options.repeats;
   ThroughputRow row;
   row.config = c;
   const fs::path dir = runs_dir / fmt::format("{}_h{:g}_t{}", c.scene, c.cell_size, c.threads);
@@ -101,12 +106,24 @@ ThroughputRow run_throughput(const ThroughputConfig& c, int repeats, double base
                                          fmt::format("time.end_time={:g}", c.end_time),
                                          "--set",
                                          "output.every_time=1"};
-  std::vector<double> rates;
+  std::vector<double> rates, ratios;
   double peak = 0;
   try {
     for (int k = 0; k < repeats; ++k) {
+      double old_seconds = NAN;
+      if (!options.baseline.empty()) {
+        auto old_args = args;
+        old_args[3] = (dir / "baseline").string(); // --out
+        const ChildResult old = spawn_and_wait(options.baseline, old_args, dir / "baseline.log");
+        if (old.exit_code != 0)
+          throw std::runtime_error("--vs binary: " +
+                                   failure_message(dir / "baseline.log", old.exit_code));
+        old_seconds = old.wall_seconds;
+      }
       fs::remove(dir / "summary.json");
       const ChildResult r = spawn_and_wait(exe, args, log);
+      if (std::isfinite(old_seconds))
+        ratios.push_back(r.wall_seconds / old_seconds);
       peak = std::max(peak, r.max_rss_mb);
       if (r.exit_code != 0) {
         row.status = "failed";
@@ -126,6 +143,8 @@ ThroughputRow run_throughput(const ThroughputConfig& c, int repeats, double base
     row.message = e.what();
   }
   row.repeats = static_cast<int>(rates.size());
+  if (!ratios.empty())
+    row.ratio_to_baseline = median(ratios);
   if (!rates.empty()) {
     row.median_rate = median(rates);
     row.min_rate = *std::min_element(rates.begin(), rates.end());
@@ -143,14 +162,14 @@ void write_throughput_csv(const fs::path& file, const std::vector<ThroughputRow>
     throw std::runtime_error("cannot create " + file.string());
   out << "scene,dimension,cell_size,threads,particles,steps,active_nodes,"
          "median_particle_steps_per_second,min_particle_steps_per_second,repeats,peak_rss_mb,"
-         "bytes_per_point,energy_drift,status,message\n";
+         "bytes_per_point,energy_drift,ratio_to_baseline,status,message\n";
   for (const auto& r : rows)
-    out << fmt::format("{},{},{:g},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n", r.config.scene,
-                       r.config.dimension, r.config.cell_size, r.config.threads,
-                       csv_number(r.particles), csv_number(r.steps), csv_number(r.active_nodes),
-                       csv_number(r.median_rate), csv_number(r.min_rate), r.repeats,
-                       csv_number(r.peak_rss_mb), csv_number(r.bytes_per_point),
-                       csv_number(r.energy_drift), r.status, r.message);
+    out << fmt::format(
+        "{},{},{:g},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n", r.config.scene,
+        r.config.dimension, r.config.cell_size, r.config.threads, csv_number(r.particles),
+        csv_number(r.steps), csv_number(r.active_nodes), csv_number(r.median_rate),
+        csv_number(r.min_rate), r.repeats, csv_number(r.peak_rss_mb), csv_number(r.bytes_per_point),
+        csv_number(r.energy_drift), csv_number(r.ratio_to_baseline), r.status, r.message);
 }
 
 void print_throughput_table(const std::vector<ThroughputRow>& rows, double baseline_mb,
@@ -158,16 +177,17 @@ void print_throughput_table(const std::vector<ThroughputRow>& rows, double basel
   fmt::print("explicit throughput ({} repeats per configuration; rate = points x steps / the "
              "stepping loop's wall time, median; memory: peak RSS less the binary's {:.0f} MB)\n",
              repeats, baseline_mb);
-  fmt::print("{:<18} {:>3} {:>8} {:>7} {:>9} {:>6} {:>8} {:>12} {:>9} {:>9} {:>9}  {}\n", "scene",
-             "dim", "h", "threads", "particles", "steps", "nodes", "M pt-steps/s", "RSS MB",
-             "B/point", "E drift", "status");
-  fmt::print("{}\n", std::string(118, '-'));
+  fmt::print("{:<18} {:>3} {:>8} {:>7} {:>9} {:>6} {:>8} {:>12} {:>9} {:>9} {:>9} {:>7}  {}\n",
+             "scene", "dim", "h", "threads", "particles", "steps", "nodes", "M pt-steps/s",
+             "RSS MB", "B/point", "E drift", "vs old", "status");
+  fmt::print("{}\n", std::string(126, '-'));
   for (const auto& r : rows)
-    fmt::print("{:<18} {:>3} {:>8g} {:>7} {:>9} {:>6} {:>8} {:>12} {:>9} {:>9} {:>9}  {}{}\n",
+    fmt::print("{:<18} {:>3} {:>8g} {:>7} {:>9} {:>6} {:>8} {:>12} {:>9} {:>9} {:>9} {:>7}  {}{}\n",
                r.config.scene, r.config.dimension, r.config.cell_size, r.config.threads,
                cell(r.particles, "{:.0f}"), cell(r.steps, "{:.0f}"), cell(r.active_nodes, "{:.0f}"),
                cell(r.median_rate / 1e6, "{:.2f}"), cell(r.peak_rss_mb, "{:.0f}"),
-               cell(r.bytes_per_point, "{:.0f}"), cell(r.energy_drift, "{:.1e}"), r.status,
+               cell(r.bytes_per_point, "{:.0f}"), cell(r.energy_drift, "{:.1e}"),
+               cell(r.ratio_to_baseline, "{:.3f}"), r.status,
                r.message.empty() ? "" : " (" + r.message + ")");
 }
 
@@ -192,7 +212,7 @@ int run_throughput_bench(const BenchOptions& options) {
     fmt::print(stderr, "bench [{}/{}] {} h = {:g}, {} thread(s) ... ", i + 1, configs.size(),
                c.scene, c.cell_size, c.threads);
     std::fflush(stderr);
-    rows.push_back(run_throughput(c, options.repeats, baseline_mb, exe, runs));
+    rows.push_back(run_throughput(c, options, baseline_mb, exe, runs));
     const ThroughputRow& r = rows.back();
     if (r.status == "ok")
       fmt::print(stderr, "{:.0f} points, {:.2f} M particle-steps/s\n", r.particles,
@@ -204,14 +224,7 @@ int run_throughput_bench(const BenchOptions& options) {
   write_throughput_csv(csv, rows);
   print_throughput_table(rows, baseline_mb, options.repeats);
 
-  const fs::path png = out / "throughput.png";
-  const fs::path plot_log = out / "plot.log";
-  const ChildResult plot = spawn_and_wait(
-      "/usr/bin/python3", {plot_script.string(), csv.string(), png.string()}, plot_log);
-  if (plot.exit_code != 0)
-    throw std::runtime_error(fmt::format("{} failed (exit {}):\n{}", plot_script.string(),
-                                         plot.exit_code, read_text(plot_log)));
-  fmt::print("\nwrote {} and {}\n", csv.string(), png.string());
+  plot_table(plot_script, csv, out / "throughput.png");
   return kExitOk;
 }
 

@@ -538,19 +538,22 @@ TEST_F(Cli, VerifyShowsAKnownFailureWithoutFailing) {
 
 } // namespace
 
-// `talus bench --vs` compares two binaries only where that is defined (newton_cost) and only
+// `talus bench --vs` compares two binaries only where that is defined (newton_cost,
+// explicit_throughput) and only
 // with a binary that exists: anything else is refused with exit 2 before a run starts.
 TEST_F(Cli, BenchRefusesAComparisonItCannotMake) {
   struct Refusal {
     std::vector<std::string> args;
     std::string message;
   };
-  for (const Refusal& c : {Refusal{{"bench", "--case", "fos_cost", "--vs", TALUS_BINARY},
-                                   "--vs: only --case newton_cost compares with another binary"},
-                           Refusal{{"bench", "--case", "newton_cost", "--vs", "no/such/talus"},
-                                   "--vs: 'no/such/talus' is not a file"},
-                           Refusal{{"bench", "--case", "newton_cost", "--repeats", "2"},
-                                   "at least 3 repeats are needed"}}) {
+  for (const Refusal& c :
+       {Refusal{
+            {"bench", "--case", "fos_cost", "--vs", TALUS_BINARY},
+            "--vs: only --case newton_cost and explicit_throughput compare with another binary"},
+        Refusal{{"bench", "--case", "newton_cost", "--vs", "no/such/talus"},
+                "--vs: 'no/such/talus' is not a file"},
+        Refusal{{"bench", "--case", "newton_cost", "--repeats", "2"},
+                "at least 3 repeats are needed"}}) {
     const Outcome r = talus(c.args);
     EXPECT_EQ(r.exit_code, 2) << r.describe();
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.describe();

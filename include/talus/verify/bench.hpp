@@ -30,7 +30,8 @@ struct BenchOptions {
   /// timings comparable on a shared machine: with more threads than idle cores, OpenMP
   /// barriers wait on descheduled threads and small runs slow down by an order of magnitude.
   int threads = 1;
-  /// `--vs`: an older talus binary run alternately with this one (newton_cost only).
+  /// `--vs`: an older talus binary run alternately with this one (newton_cost and
+  /// explicit_throughput).
   std::filesystem::path baseline;
 };
 
