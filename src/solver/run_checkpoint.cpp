@@ -4,10 +4,11 @@
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 namespace talus::run_detail {
 
@@ -77,10 +78,21 @@ StageSummary stage_of(const json& j) {
 
 /// Keys a resumed run may change with --accept-changes: how long it runs and what it writes,
 /// never the physics of the steps already taken.
-bool safe_change(const std::string& key) {
-  static const std::regex safe(R"((stages\[\d+\]\.)?time\.(end_time|max_steps)|)"
-                               R"(stages\[\d+\]\.wall_time_limit|output(\..*)?)");
-  return std::regex_match(key, safe);
+bool safe_change(std::string key) {
+  if (key == "output" || key.starts_with("output."))
+    return true;
+  // stages[i].time.end_time, stages[i].wall_time_limit, ...: the same keys as the case's own.
+  if (key.starts_with("stages[")) {
+    const std::size_t close = key.find("].");
+    if (close == std::string::npos || close == 7 ||
+        !std::all_of(key.begin() + 7, key.begin() + static_cast<long>(close),
+                     [](unsigned char c) { return std::isdigit(c) != 0; }))
+      return false;
+    key = key.substr(close + 2);
+    if (key == "wall_time_limit")
+      return true;
+  }
+  return key == "time.end_time" || key == "time.max_steps";
 }
 
 } // namespace
