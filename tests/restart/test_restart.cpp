@@ -259,32 +259,42 @@ TEST_F(Restart, FactorOfSafetySearchResumesKeepingFinishedTrials) {
                                            "output.checkpoint.every_steps=2"};
     const fs::path case_file = kCases / "slope_griffiths_lane.yaml";
     const fs::path reference = work() / (mode + "_reference");
-    const fs::path dir = work() / (mode + "_killed");
     ASSERT_EQ(talus(arguments("fos", case_file, sets, {"--out", reference.string()})).exit_code, 0);
-    // Killed once the search is under way: after two finished trials, or 12 rows into the
-    // incremental run (past its first checkpoints).
-    Child child(arguments("fos", case_file, sets, {"--out", dir.string()}), work(), root_);
-    const auto under_way = [&] {
-      if (mode == "trials") {
-        const std::string log = read_file(dir / "fos.log");
-        return std::count(log.begin(), log.end(), '\n') >= 3;
+    const auto trials = static_cast<int>(read_json(reference / "fos.json").at("trials"));
+    const Index rows = rows_written(reference / "trials" / "incremental");
+    for (int seed = 1; seed <= seeds(); ++seed) {
+      // Killed once the search is under way: after a random number of finished trials, or a
+      // random number of rows into the incremental run (past its first checkpoint).
+      std::mt19937 generator(static_cast<unsigned>(seed));
+      const int finished = std::uniform_int_distribution<int>(1, trials - 2)(generator);
+      const Index row = mode == "trials" ? 0
+                                         : std::uniform_int_distribution<Index>(
+                                               3, std::max<Index>(3, rows * 9 / 10))(generator);
+      SCOPED_TRACE("seed " + std::to_string(seed));
+      const fs::path dir = work() / (mode + "_killed_" + std::to_string(seed));
+      Child child(arguments("fos", case_file, sets, {"--out", dir.string()}), work(), root_);
+      const auto under_way = [&] {
+        if (mode == "trials") {
+          const std::string log = read_file(dir / "fos.log"); // a header, then a line per trial
+          return std::count(log.begin(), log.end(), '\n') >= finished + 1;
+        }
+        return rows_written(dir / "trials" / "incremental") >= row;
+      };
+      while (!under_way()) {
+        if (const auto done = child.poll())
+          FAIL() << "the search ended before the kill:\n" << done->describe();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
-      return rows_written(dir / "trials" / "incremental") >= 12;
-    };
-    while (!under_way()) {
-      if (const auto done = child.poll())
-        FAIL() << "the search ended before the kill:\n" << done->describe();
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      ::kill(child.pid(), SIGKILL);
+      child.wait();
+      const Outcome r = resume("fos", case_file, sets, dir);
+      ASSERT_EQ(r.exit_code, 0) << r.describe();
+      EXPECT_EQ(fos_rows(reference), fos_rows(dir));
+      const auto a = read_json(reference / "fos.json");
+      const auto b = read_json(dir / "fos.json");
+      EXPECT_EQ(a.at("bracket"), b.at("bracket"));
+      EXPECT_EQ(a.at("newton_iterations"), b.at("newton_iterations"));
     }
-    ::kill(child.pid(), SIGKILL);
-    child.wait();
-    const Outcome r = resume("fos", case_file, sets, dir);
-    ASSERT_EQ(r.exit_code, 0) << r.describe();
-    EXPECT_EQ(fos_rows(reference), fos_rows(dir));
-    const auto a = read_json(reference / "fos.json");
-    const auto b = read_json(dir / "fos.json");
-    EXPECT_EQ(a.at("bracket"), b.at("bracket"));
-    EXPECT_EQ(a.at("newton_iterations"), b.at("newton_iterations"));
   }
 }
 

@@ -274,6 +274,43 @@ TEST(Results, EveryFrameIsReadableWhileTheWriterIsAlive) {
   }
 }
 
+// A resumed run (talus run --resume) keeps the frames its checkpoint lists and drops the rest,
+// also when a kill left the file cut short in the middle of a later frame: the kept frames
+// read back as written, and the writer goes on from there.
+TEST(Results, AResumedWriterKeepsTheCheckpointsFramesOfADamagedFile) {
+  for (const bool damaged : {false, true}) {
+    SCOPED_TRACE(damaged ? "cut short" : "whole");
+    TempDir dir;
+    std::vector<ResultsWriter::FrameRecord> kept;
+    std::uintmax_t size_at_checkpoint = 0;
+    {
+      ResultsWriter w(dir.path(), make_metadata());
+      for (int k = 0; k < 3; ++k) {
+        w.write_frame(kSteps[k], kTimes[k], make_particles(5, k), kAllFields);
+        if (k == 1) {
+          kept = w.frames();
+          size_at_checkpoint = fs::file_size(w.h5_path());
+        }
+      }
+    }
+    const fs::path h5 = dir.path() / "run.h5";
+    if (damaged) // killed half-way through the third frame
+      fs::resize_file(h5, (size_at_checkpoint + fs::file_size(h5)) / 2);
+    ResultsWriter resumed(dir.path(), make_metadata(), kept);
+    {
+      ResultsReader r(h5);
+      ASSERT_EQ(r.frame_count(), 2);
+      for (int k = 0; k < 2; ++k)
+        expect_frame_matches(r, k, make_particles(5, k));
+    }
+    const auto p = make_particles(5, 2);
+    resumed.write_frame(kSteps[2], kTimes[2], p, kAllFields);
+    ResultsReader r(h5);
+    ASSERT_EQ(r.frame_count(), 3);
+    expect_frame_matches(r, 2, p);
+  }
+}
+
 TEST(Results, WriterRejectsInconsistentParticleArrays) {
   TempDir dir;
   ResultsWriter w(dir.path(), make_metadata());
