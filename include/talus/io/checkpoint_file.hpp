@@ -3,7 +3,8 @@
 // atomically (a temporary file, flushed to disk, renamed over the name) and closed by a trailer
 // with the payload's length and CRC-32, so a truncated or corrupt file is recognised and never
 // half-read. The bytes are little-endian as the machine writes them; the layout is in
-// docs/output-format.md ("Checkpoints"). What a run stores in it: solver/checkpoint.hpp.
+// docs/output-format.md ("Checkpoints"). What a run stores in it: solver/scene_checkpoint.hpp
+// (the points) and src/solver/run_checkpoint.hpp (the run's progress).
 #include "talus/core/types.hpp"
 
 #include <cstdint>
