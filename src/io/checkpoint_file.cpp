@@ -243,14 +243,16 @@ const CheckpointReader::Entry& CheckpointReader::entry(const std::string& name,
 std::vector<double> CheckpointReader::doubles(const std::string& name) const {
   const Entry& e = entry(name, kDoubles);
   std::vector<double> out(e.count);
-  std::memcpy(out.data(), bytes_.data() + e.offset, e.count * sizeof(double));
+  if (e.count > 0) // memcpy may not be given the null data() of an empty vector
+    std::memcpy(out.data(), bytes_.data() + e.offset, e.count * sizeof(double));
   return out;
 }
 
 std::vector<std::int64_t> CheckpointReader::integers(const std::string& name) const {
   const Entry& e = entry(name, kIntegers);
   std::vector<std::int64_t> out(e.count);
-  std::memcpy(out.data(), bytes_.data() + e.offset, e.count * sizeof(std::int64_t));
+  if (e.count > 0)
+    std::memcpy(out.data(), bytes_.data() + e.offset, e.count * sizeof(std::int64_t));
   return out;
 }
 

@@ -18,24 +18,16 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
   if (m.has("checkpoint")) {
     const Map c(*this, m["checkpoint"], {"every_steps", "every_seconds"});
     CheckpointSpec spec;
-    if (c.has("every_steps")) {
-      const Item every = c["every_steps"];
-      spec.every_steps = integer(every);
-      if (*spec.every_steps < 1)
-        fail(every, "must be an integer >= 1 (got " + shown(every.node.Scalar()) + ")");
-    }
+    if (c.has("every_steps"))
+      spec.every_steps = count(c["every_steps"]);
     if (c.has("every_seconds"))
       spec.every_seconds = positive(c["every_seconds"]);
     if (!spec.every_steps && !spec.every_seconds)
       fail(c.self(), "give 'every_steps', 'every_seconds' or both");
     o.checkpoint = spec;
   }
-  if (m.has("every_steps")) {
-    const Item every = m["every_steps"];
-    o.every_steps = integer(every);
-    if (*o.every_steps < 1)
-      fail(every, "must be an integer >= 1 (got " + shown(every.node.Scalar()) + ")");
-  }
+  if (m.has("every_steps"))
+    o.every_steps = count(m["every_steps"]);
   if (m.has("every_time"))
     o.every_time = positive(m["every_time"]);
   if (o.every_steps && o.every_time)

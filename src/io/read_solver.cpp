@@ -110,12 +110,8 @@ TimeSpec Validator::time(const Item& it) const {
     if (t.dt && *t.min_dt > *t.dt)
       fail(m["min_dt"], "must not exceed dt");
   }
-  if (m.has("max_steps")) {
-    const Item max_steps = m["max_steps"];
-    t.max_steps = integer(max_steps);
-    if (t.max_steps < 1)
-      fail(max_steps, "must be an integer >= 1 (got " + shown(max_steps.node.Scalar()) + ")");
-  }
+  if (m.has("max_steps"))
+    t.max_steps = count(m["max_steps"]);
   return t;
 }
 

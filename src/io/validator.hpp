@@ -301,6 +301,14 @@ public:
     return static_cast<Index>(v);
   }
 
+  /// A count: an integer >= 1 (every N steps, at most N steps).
+  Index count(const Item& it) const {
+    const Index n = integer(it);
+    if (n < 1)
+      fail(it, "must be an integer >= 1 (got " + shown(it.node.Scalar()) + ")");
+    return n;
+  }
+
   /// "a 2-element list [x, y]" or "a 3-element list [x, y, z]": what a point of the case is.
   std::string point_list() const {
     return dimension_ == 3 ? "a 3-element list [x, y, z]" : "a 2-element list [x, y]";

@@ -970,5 +970,25 @@ TEST(CaseReaderErrors, SplitValues) {
                  {"bodies.lower.split={" + b.set + "}"});
 }
 
+// output.checkpoint: every_steps a count, every_seconds positive, at least one of them.
+TEST(CaseReaderErrors, CheckpointNeedsAScheduleOfCountsOrSeconds) {
+  const CaseSpec c = read_case_text(
+      kMinimal + "output: {checkpoint: {every_steps: 50, every_seconds: 600}}\n", "case.yaml");
+  ASSERT_TRUE(c.output.checkpoint.has_value());
+  EXPECT_EQ(c.output.checkpoint->every_steps, 50);
+  EXPECT_EQ(c.output.checkpoint->every_seconds, 600.0);
+  EXPECT_FALSE(read_case_text(kMinimal, "case.yaml").output.checkpoint.has_value());
+  expect_error(
+      kMinimal + "output: {checkpoint: {every_steps: 0}}\n",
+      {"case.yaml", 12, 36, "output.checkpoint.every_steps", "must be an integer >= 1 (got 0)"});
+  expect_error(kMinimal + "output: {checkpoint: {every_seconds: -1}}\n",
+               {"case.yaml", 12, 38, "output.checkpoint.every_seconds", "-1"});
+  expect_error(
+      kMinimal + "output: {checkpoint: {}}\n",
+      {"case.yaml", 12, 22, "output.checkpoint", "give 'every_steps', 'every_seconds' or both"});
+  expect_error(kMinimal + "output: {checkpoint: {every_step: 5}}\n",
+               {"case.yaml", 12, 23, "output.checkpoint.every_step", "every_steps"});
+}
+
 } // namespace
 } // namespace talus
