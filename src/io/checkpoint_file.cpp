@@ -256,14 +256,6 @@ std::vector<std::int64_t> CheckpointReader::integers(const std::string& name) co
   return out;
 }
 
-double CheckpointReader::number(const std::string& name) const {
-  const auto v = doubles(name);
-  if (v.size() != 1)
-    throw std::runtime_error(fmt::format("checkpoint '{}': entry '{}' holds {} numbers, not one",
-                                         file_.string(), name, v.size()));
-  return v[0];
-}
-
 std::int64_t CheckpointReader::integer(const std::string& name) const {
   const auto v = integers(name);
   if (v.size() != 1)

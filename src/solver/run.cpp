@@ -8,23 +8,14 @@
 #include "talus/core/splitting.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
-#include "talus/material/plastic_material.hpp"
-#include "talus/post/stress_recovery.hpp"
-#include "talus/post/voxels.hpp"
-#include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/scene_checkpoint.hpp"
 #include "talus/solver/stage_watch.hpp"
-#include "talus/solver/state_guard.hpp"
-#include "talus/solver/strength_reduction.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <cmath>
 #include <csignal>
 #include <fmt/format.h>
-#include <fstream>
 #include <omp.h>
 #include <optional>
 
@@ -333,18 +324,17 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
         recorder.next_frame_time = resumed->next_frame_time;
         watch.recall(resumed->watch);
       }
-      state.checkpoint = [&, k] {
-        if (!checkpoint_spec)
-          return;
-        const bool due =
-            g_interrupted || watch.out_of_time() ||
-            (checkpoint_spec->every_steps && state.step % *checkpoint_spec->every_steps == 0) ||
-            (checkpoint_spec->every_seconds &&
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
-                     .count() >= *checkpoint_spec->every_seconds);
-        if (due)
-          write_checkpoint(k, true, strength.start(), &watch);
-      };
+      if (checkpoint_spec)
+        state.checkpoint = [&, k] {
+          const bool due =
+              g_interrupted || watch.out_of_time() ||
+              (checkpoint_spec->every_steps && state.step % *checkpoint_spec->every_steps == 0) ||
+              (checkpoint_spec->every_seconds &&
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
+                       .count() >= *checkpoint_spec->every_seconds);
+          if (due)
+            write_checkpoint(k, true, strength.start(), &watch);
+        };
       // From here on strength_factor follows the factor the materials have.
       if (stage.analysis == AnalysisType::Explicit) {
         strength.at(1.0);

@@ -153,10 +153,6 @@ std::vector<Config> sweep(const std::string& name, bool quick) {
   return configs;
 }
 
-double json_number(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
-}
-
 std::string csv_text(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos)
     return s;

@@ -86,6 +86,10 @@ std::string failure_message(const fs::path& log, int exit_code) {
   return fmt::format("exit {}{}{}", exit_code, text.empty() ? "" : ": ", text);
 }
 
+double json_number(const nlohmann::json& j, const std::string& key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();

@@ -2,6 +2,7 @@
 // Child runs of the benchmarks: `talus run ...` as its own process, so that its peak resident
 // set (ru_maxrss from wait4) belongs to that run alone, and what the benchmarks read back.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,9 @@ void plot_table(const std::filesystem::path& script, const std::filesystem::path
 std::string failure_message(const std::filesystem::path& log, int exit_code);
 
 double median(std::vector<double> v);
+
+/// The number j[key] (summary.json, fos.json), NaN when it is missing or not a number.
+double json_number(const nlohmann::json& j, const std::string& key);
 
 /// `format` of v, or "-" when v is not finite (table cells).
 std::string cell(double v, const char* format);

@@ -93,10 +93,6 @@ std::vector<NewtonCostConfig> newton_cost_sweep() {
            {"grid.cell_size=0.25", "materials[0].model=hencky", "time.dt=0.25"}}};
 }
 
-double json_value(const nlohmann::json& j, const std::string& key) {
-  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
-}
-
 std::vector<std::string> run_arguments(const NewtonCostConfig& c, const fs::path& dir,
                                        int threads) {
   std::vector<std::string> args = {
@@ -192,13 +188,13 @@ NewtonCostRow run_newton_cost(const NewtonCostConfig& c, const BenchOptions& opt
       if (!baseline.empty())
         ratio.push_back(r.wall_seconds / baseline.back());
       const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
-      wall.push_back(json_value(summary, "wall_seconds"));
+      wall.push_back(json_number(summary, "wall_seconds"));
       for (const auto& p : kPhases)
-        phases[p].push_back(json_value(summary, "seconds_" + p));
-      row.particles = json_value(summary, "particles");
-      row.unknowns = json_value(summary, "unknowns_last_step");
-      row.newton_iterations = json_value(summary, "newton_iterations");
-      row.load_steps = json_value(summary, "load_steps");
+        phases[p].push_back(json_number(summary, "seconds_" + p));
+      row.particles = json_number(summary, "particles");
+      row.unknowns = json_number(summary, "unknowns_last_step");
+      row.newton_iterations = json_number(summary, "newton_iterations");
+      row.load_steps = json_number(summary, "load_steps");
       row.linear_solver = summary.value("linear_solver", "");
     }
     std::tie(row.bare_factor_solve_ms, row.bare_analysis_ms) =

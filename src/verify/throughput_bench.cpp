@@ -73,10 +73,6 @@ std::vector<ThroughputConfig> throughput_sweep(bool quick) {
   return configs;
 }
 
-double json_value(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
-}
-
 double energy_drift(const fs::path& series_file) {
   const CsvTable series = read_csv(series_file);
   const auto& kinetic = series.column("kinetic_energy");
@@ -131,10 +127,10 @@ ThroughputRow run_throughput(const ThroughputConfig& c, const BenchOptions& opti
         break;
       }
       const auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
-      row.particles = json_value(summary, "particles");
-      row.steps = json_value(summary, "steps_stepping");
-      row.active_nodes = json_value(summary, "active_nodes_last_step");
-      rates.push_back(row.particles * row.steps / json_value(summary, "seconds_stepping"));
+      row.particles = json_number(summary, "particles");
+      row.steps = json_number(summary, "steps_stepping");
+      row.active_nodes = json_number(summary, "active_nodes_last_step");
+      rates.push_back(row.particles * row.steps / json_number(summary, "seconds_stepping"));
     }
     if (row.status == "ok")
       row.energy_drift = energy_drift(dir / "timeseries.csv");

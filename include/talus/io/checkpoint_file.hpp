@@ -31,7 +31,6 @@ public:
 
   void put(const std::string& name, std::span<const double> values);
   void put(const std::string& name, std::span<const std::int64_t> values);
-  void put(const std::string& name, double value) { put(name, std::span<const double>(&value, 1)); }
   void put_integer(const std::string& name, std::int64_t value) {
     put(name, std::span<const std::int64_t>(&value, 1));
   }
@@ -68,7 +67,6 @@ public:
   /// The named array; throws std::runtime_error if it is missing or of another kind.
   std::vector<double> doubles(const std::string& name) const;
   std::vector<std::int64_t> integers(const std::string& name) const;
-  double number(const std::string& name) const;
   std::int64_t integer(const std::string& name) const;
   std::string text(const std::string& name) const;
   const std::filesystem::path& file() const { return file_; }

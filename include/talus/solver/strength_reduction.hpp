@@ -38,7 +38,6 @@ struct StrengthTrial {
   double crest_displacement() const;
 };
 
-
 /// What a trial's run says about the trial factor: it stood (the full load, the crest within
 /// `displacement_limit`) or failed, and why: interrupted, stopped by the crest limit during
 /// the loading (status "stopped"), failed numerically (Newton at min_dt, max_steps, the state
