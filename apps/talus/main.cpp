@@ -8,6 +8,7 @@
 #include "talus/io/case_reader.hpp"
 #include "talus/io/case_vocabulary.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/parallel/communicator.hpp"
 #include "talus/post/render.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/solver/strength_reduction.hpp"
@@ -113,6 +114,8 @@ int run_command(const std::string& case_file, const std::vector<std::string>& ov
   const CaseSpec spec = read_case_file(case_file, overrides);
   warn_if_memory_is_short(spec);
   const RunResult r = run_case(spec, options);
+  if (!Communicator::world().root())
+    return r.exit_code;
   fmt::print("{}: {} — {} steps to t = {:g}, {} frames, {} particles, {:.2f} s -> {}\n", spec.name,
              r.status, r.steps, r.final_time, r.frames, r.particles, r.wall_seconds,
              r.out_dir.string());
@@ -174,6 +177,9 @@ void run_with_short_openmp_waits(char** argv) {
 
 int main(int argc, char** argv) {
   run_with_short_openmp_waits(argv);
+  // Under mpirun: MPI from here on; each rank then runs the same command on its share.
+  Communicator::init_if_launched(argc, argv);
+  const Communicator& ranks = Communicator::world();
   CLI::App app{"Talus: material point method for geomechanics"};
   app.require_subcommand(1);
 
@@ -348,12 +354,22 @@ int main(int argc, char** argv) {
     if (*info)
       return print_info();
   } catch (const InputError& e) {
-    fmt::print(stderr, "talus: error: {}\n", e.what());
+    // Bad input and numerical failures reach every rank of a distributed run together: rank 0
+    // reports them.
+    if (ranks.root())
+      fmt::print(stderr, "talus: error: {}\n", e.what());
     return kExitBadInput;
   } catch (const NumericalError& e) {
-    fmt::print(stderr, "talus: numerical failure: {}\n", e.what());
+    if (ranks.root())
+      fmt::print(stderr, "talus: numerical failure: {}\n", e.what());
     return kExitNumerical;
   } catch (const std::exception& e) {
+    // Anything else may have struck one rank alone, while the others wait for it.
+    if (ranks.distributed()) {
+      fmt::print(stderr, "talus: rank {}: {}\n", ranks.rank(), e.what());
+      std::fflush(stderr);
+      MPI_Abort(ranks.mpi(), kExitOther);
+    }
     fmt::print(stderr, "talus: {}\n", e.what());
     return kExitOther;
   }

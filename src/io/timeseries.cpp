@@ -51,6 +51,8 @@ void TimeSeriesWriter::append(const std::vector<double>& row) {
   if (row.size() != columns_)
     throw std::invalid_argument("TimeSeriesWriter::append: row has " + std::to_string(row.size()) +
                                 " values, the header has " + std::to_string(columns_) + " columns");
+  if (!file_)
+    return;
   std::string line;
   char buf[40];
   for (std::size_t i = 0; i < row.size(); ++i) {

@@ -2,6 +2,7 @@
 
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/parallel/node_halo.hpp"
 #include "talus/shape/shape_functions.hpp"
 
 #include <algorithm>
@@ -32,6 +33,8 @@ public:
       throw std::logic_error("APIC transfer without the points' affine velocities");
     for (const auto& material : scene.materials)
       wave_speed_.push_back(material->wave_speed());
+    if (scene.distributed())
+      halo_.emplace(*scene.decomposition);
     // Stress consistent with the initial F: a plastic model's evaluation at an unchanged F
     // may still move its stress by round-off, so a resumed stage, whose stress is current,
     // does not repeat it.
@@ -40,8 +43,10 @@ public:
   }
 
   void step(double dt) override {
-    map_.update(scene_.grid, scene_.particles);
+    update_map();
     size_node_arrays();
+    if (halo_)
+      halo_->connect(map_.nodes());
     if constexpr (Axisymmetric) {
       const auto& P = scene_.particles;
       radius_n_.resize(at(P.size()));
@@ -75,6 +80,22 @@ public:
     }
   }
 
+  // A point that left the grid stops every rank, before any of them waits for the others' sums.
+  void update_map() {
+    if (!halo_) {
+      map_.update(scene_.grid, scene_.particles);
+      return;
+    }
+    std::optional<std::string> failure;
+    try {
+      map_.update(scene_.grid, scene_.particles);
+    } catch (const NumericalError& e) {
+      failure = e.what();
+    }
+    if (const auto first = scene_.decomposition->comm().first_message(failure))
+      throw NumericalError(*first);
+  }
+
   double stable_dt(double cfl) const override {
     const auto& P = scene_.particles;
     const double max_speed = parallel_reduce(
@@ -84,12 +105,27 @@ public:
             fastest = std::max(fastest, wave_speed_[at(P.material[s])] + P.v[s].norm());
         },
         [](double& fastest, double block) { fastest = std::max(fastest, block); });
-    return cfl * scene_.grid.cell_size() / max_speed;
+    return cfl * scene_.grid.cell_size() /
+           (halo_ ? scene_.decomposition->comm().max(max_speed) : max_speed);
   }
 
-  Energies energies() const override { return particle_energies(scene_, true); }
+  Energies energies() const override {
+    const Energies e = particle_energies(scene_, true);
+    return halo_ ? summed_over_ranks(e, scene_.decomposition->comm()) : e;
+  }
 
-  FaceReactions reactions() const override { return reactions_; }
+  FaceReactions reactions() const override {
+    if (!halo_)
+      return reactions_;
+    std::vector<double> flat;
+    for (const Vec3& r : reactions_)
+      flat.insert(flat.end(), r.data(), r.data() + 3);
+    const std::vector<double> total = scene_.decomposition->comm().sum(flat);
+    FaceReactions out{};
+    for (std::size_t f = 0; f < out.size(); ++f)
+      out[f] = Vec3(total[3 * f], total[3 * f + 1], total[3 * f + 2]);
+    return out;
+  }
   Index active_nodes() const override { return map_.node_count(); }
 
   std::optional<StateViolation> grid_violation() const override {
@@ -225,6 +261,16 @@ private:
         for_each_surface_load_node<Dim>(
             map_.nodes(), scene_.particles, load, map_.stencil(load.particle).start, Shape::kWidth,
             [&](Index n, double w) { force_[at(n)] += w * load.force; });
+    if (halo_) {
+      std::vector<typename NodeHalo<Dim>::Field> fields;
+      if constexpr ((kWhat & kMass) != 0) {
+        fields.push_back({mass_.data(), 1});
+        fields.push_back({reinterpret_cast<double*>(momentum_.data()), Dim});
+      }
+      if constexpr ((kWhat & kForce) != 0)
+        fields.push_back({reinterpret_cast<double*>(force_.data()), Dim});
+      halo_->sum(fields);
+    }
   }
 
   void constrain(Index n, V& vec) const {
@@ -255,10 +301,13 @@ private:
   void grid_acceleration(double dt) {
     for (auto& r : reactions_)
       r.setZero();
-    for (const Index n : reaction_nodes_)
+    for (const Index n : reaction_nodes_) {
+      if (halo_ && !halo_->counts(n))
+        continue; // another rank adds this node's reaction
       for (int d = 0; d < Dim; ++d)
         if (const int face = reaction_face_[at(n)][static_cast<std::size_t>(d)]; face >= 0)
           reactions_[static_cast<std::size_t>(face)][d] -= force_[at(n)][d];
+    }
     parallel_for(node_count(), [&](Index n) {
       const auto s = at(n);
       if (mass_[s] <= 0.0) {
@@ -347,10 +396,6 @@ private:
   void remap_velocity() {
     fill_loads<kMass>(old_x_);
     parallel_for(node_count(), [&](Index n) {
-      if (mass_[at(n)] <= 0.0) {
-        velocity_[at(n)].setZero();
-        return;
-      }
       V mv = V::Zero();
       M mC = M::Zero();
       map_.for_each_slot_weight_of(n, [&](Index q, double w) {
@@ -360,7 +405,19 @@ private:
       });
       if (apic_)
         mv += mC * node_position(n);
-      velocity_[at(n)] = mv / mass_[at(n)];
+      momentum_[at(n)] = mv;
+    });
+    if (halo_) {
+      const typename NodeHalo<Dim>::Field momentum{reinterpret_cast<double*>(momentum_.data()),
+                                                   Dim};
+      halo_->sum(std::span(&momentum, 1));
+    }
+    parallel_for(node_count(), [&](Index n) {
+      if (mass_[at(n)] <= 0.0) {
+        velocity_[at(n)].setZero();
+        return;
+      }
+      velocity_[at(n)] = momentum_[at(n)] / mass_[at(n)];
       constrain(n, velocity_[at(n)]);
     });
   }
@@ -420,6 +477,7 @@ private:
   std::vector<double> radius_n_;      // axisymmetry: the points' radii at the start of the step
   FaceReactions reactions_{};
   bool apic_ = false;
+  std::optional<NodeHalo<Dim>> halo_; ///< a distributed run: the nodes shared with other ranks
 };
 
 /// ExplicitSolverImpl of one dimension, as a template of the shape function alone.

@@ -8,6 +8,7 @@
 #include "talus/core/splitting.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
+#include "talus/parallel/migration.hpp"
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/scene_checkpoint.hpp"
 #include "talus/solver/stage_watch.hpp"
@@ -16,6 +17,7 @@
 #include <chrono>
 #include <csignal>
 #include <fmt/format.h>
+#include <functional>
 #include <omp.h>
 #include <optional>
 
@@ -156,27 +158,80 @@ run_detail::RunProgress resume_from_checkpoint(Scene<Dim>& scene, const fs::path
   return progress;
 }
 
+/// What a distributed run cannot do yet, refused before anything is written (exit 2).
+void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& options) {
+  auto refuse = [](const std::string& what) {
+    throw InputError({"mpirun", 0, 0, ""},
+                     fmt::format("{} does not run distributed yet; run it without mpirun", what));
+  };
+  for (const StageSpec& stage : stages_of(spec))
+    if (stage.analysis != AnalysisType::Explicit)
+      refuse(fmt::format("an implicit analysis ('{}')", analysis_name(stage.analysis)));
+  if (spec.output.checkpoint)
+    refuse("output.checkpoint");
+  if (options.resume)
+    refuse("--resume");
+  if (!options.dump_tangent.empty())
+    refuse("--dump-tangent");
+}
+
+/// Runs `work` on rank 0 alone; an InputError there stops every rank with its message.
+/// Collective in a distributed run.
+void on_root(const Communicator& ranks, const std::function<void()>& work) {
+  std::optional<std::string> failure;
+  if (ranks.root()) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      if (!ranks.distributed())
+        throw;
+      failure = e.what();
+      ranks.first_message(failure);
+      throw;
+    }
+  }
+  if (const auto first = ranks.first_message(failure))
+    throw InputError({"mpirun", 0, 0, ""}, *first);
+}
+
 /// run_case for a case of dimension Dim: the stages, each from the state the previous left.
 template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   // Everything that can reject the input happens before the first byte is written.
   Scene<Dim> scene = build_scene<Dim>(spec);
+  // A distributed run: every rank built the whole scene and keeps its share; rank 0 alone
+  // writes files, with every rank's points in them.
+  const Communicator& ranks = Communicator::world();
+  if (ranks.distributed()) {
+    refuse_unsupported_distributed(spec, options);
+    distribute_scene(scene, ranks);
+  }
   RunResult result;
   result.out_dir = options.out_dir.empty() ? fs::path("results") / spec.name : options.out_dir;
   std::optional<run_detail::RunProgress> resumed;
   if (options.resume)
     resumed = resume_from_checkpoint(scene, result.out_dir, options);
   else
-    prepare_output_directory(result.out_dir, options.force);
+    on_root(ranks, [&] { prepare_output_directory(result.out_dir, options.force); });
   if (options.threads > 0)
     omp_set_num_threads(options.threads);
+  else if (ranks.distributed()) // the machine's cores shared among its ranks
+    omp_set_num_threads(std::max(1, omp_get_num_procs() / ranks.ranks_on_this_machine()));
 
-  fs::create_directories(result.out_dir);
+  if (ranks.root())
+    fs::create_directories(result.out_dir);
   ResultsWriter writer =
-      resumed ? ResultsWriter(result.out_dir, run_detail::metadata_of(scene), resumed->frames)
-              : ResultsWriter(result.out_dir, run_detail::metadata_of(scene));
-  TimeSeriesWriter series(result.out_dir / "timeseries.csv", run_detail::timeseries_columns(scene),
-                          resumed.has_value());
+      !ranks.root() ? ResultsWriter(ResultsWriter::CountOnly{})
+      : resumed     ? ResultsWriter(result.out_dir, run_detail::metadata_of(scene), resumed->frames)
+                    : ResultsWriter(result.out_dir, run_detail::metadata_of(scene));
+  const std::vector<std::string> columns = run_detail::timeseries_columns(scene);
+  std::optional<TimeSeriesWriter> series_file;
+  if (ranks.root())
+    series_file.emplace(result.out_dir / "timeseries.csv", columns, resumed.has_value());
+  else
+    series_file.emplace(columns.size());
+  TimeSeriesWriter& series = *series_file;
+  const bool show_progress = options.progress && ranks.root();
 
   const OutputSpec& out = spec.output;
   g_interrupted = false;
@@ -189,7 +244,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   LoopState state;
   state.stop_after_step = options.stop_after_step;
   result.status = "completed";
-  result.particles = scene.particles.size();
+  result.particles = run_detail::point_count(scene);
   double stage_start_time = 0;
   double strength_factor = 1.0;
   double wall_before = 0; // of the run's earlier processes (a resumed run)
@@ -215,7 +270,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     recorder.post_seconds = r.post_seconds;
   } else {
     if (splitting_requested(spec)) {
-      result.extra["particles_initial"] = static_cast<double>(scene.particles.size());
+      result.extra["particles_initial"] = static_cast<double>(result.particles);
       result.extra["splits"] = 0.0;
     }
     recorder.write_frame(0, 0.0);
@@ -311,12 +366,12 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
       current->analysis = analysis_name(stage.analysis);
       current->start_time = stage_start_time;
       Progress progress(staged ? fmt::format("{} [{}]", spec.name, stage.name) : spec.name,
-                        stage.time.end_time, options.progress);
+                        stage.time.end_time, show_progress);
       recorder.begin_stage(k, progress,
                            out.every_time ? *out.every_time
                                           : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
                            stage_start_time);
-      StageWatch watch(stage);
+      StageWatch watch(stage, ranks.distributed() ? &ranks : nullptr);
       const double start_strength = continuing ? resumed->stage_start_strength : strength_factor;
       StageStrength<Dim> strength(scene, spec, strength_factor, start_strength,
                                   stage.strength_factor.value_or(start_strength));
@@ -396,7 +451,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   if (out.stress_recovery || out.voxels)
     result.extra["seconds_post_processing"] = recorder.post_seconds;
   // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).
-  result.particles = scene.particles.size();
+  result.particles = run_detail::point_count(scene);
   if constexpr (Dim == 2) {
     if (options.final_state)
       options.final_state(scene);
@@ -413,7 +468,13 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() +
       wall_before;
   account_for_wall_time(result, recorder.frame_seconds);
-  Progress(spec.name, 0, options.progress)
+  if (ranks.distributed()) {
+    // Each rank's own share, then the largest: a rank that waits long carries the imbalance.
+    result.extra["ranks"] = ranks.size();
+    result.extra["seconds_communication"] = ranks.communication_seconds();
+    result.extra["seconds_communication_max"] = ranks.max(ranks.communication_seconds());
+  }
+  Progress(spec.name, 0, show_progress)
       .finish(result.status == "completed"
                   ? fmt::format("done: {} steps, {} frames, {:.2f} s", state.step, result.frames,
                                 result.wall_seconds)
@@ -432,7 +493,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   summary.extra = result.extra;
   if (staged)
     summary.stages = result.stages;
-  write_summary_json(result.out_dir / "summary.json", summary);
+  if (ranks.root())
+    write_summary_json(result.out_dir / "summary.json", summary);
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include "talus/core/scene.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
+#include "talus/parallel/migration.hpp"
 #include "talus/post/stress_recovery.hpp"
 #include "talus/post/voxels.hpp"
 #include "talus/solver/energies.hpp"
@@ -88,6 +89,47 @@ template <int Dim> std::vector<std::string> timeseries_columns(const Scene<Dim>&
   return cols;
 }
 
+/// A probe's point now: where it started and is, its velocity and stress.
+struct ProbeReading {
+  Vec3 x0 = Vec3::Zero(), x = Vec3::Zero(), v = Vec3::Zero();
+  Mat3 stress = Mat3::Zero();
+};
+
+/// The probes' points, wherever they live: in a distributed run the rank that holds a point
+/// reads it and the others add zeros. Collective there.
+template <int Dim> std::vector<ProbeReading> probe_readings(const Scene<Dim>& scene) {
+  const auto& P = scene.particles;
+  std::vector<ProbeReading> out(scene.probe_particles.size());
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (const Index p = scene.probe_particles[k]; p >= 0) {
+      const auto s = static_cast<std::size_t>(p);
+      out[k] = {padded<Dim>(P.x0[s]), padded<Dim>(P.x[s]), padded<Dim>(P.v[s]), P.stress[s]};
+    }
+  if (!scene.distributed() || out.empty())
+    return out;
+  constexpr std::size_t kValues = 18;
+  std::vector<double> flat(out.size() * kValues);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    double* f = flat.data() + k * kValues;
+    std::copy_n(out[k].x0.data(), 3, f);
+    std::copy_n(out[k].x.data(), 3, f + 3);
+    std::copy_n(out[k].v.data(), 3, f + 6);
+    std::copy_n(out[k].stress.data(), 9, f + 9);
+  }
+  flat = scene.decomposition->comm().sum(flat);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const double* f = flat.data() + k * kValues;
+    out[k] = {Vec3(f), Vec3(f + 3), Vec3(f + 6), Eigen::Map<const Mat3>(f + 9)};
+  }
+  return out;
+}
+
+/// The run's point count: the ranks' counts added in a distributed run. Collective there.
+template <int Dim> Index point_count(const Scene<Dim>& scene) {
+  const Index mine = scene.particles.size();
+  return scene.distributed() ? scene.decomposition->comm().sum(std::int64_t{mine}) : mine;
+}
+
 template <int Dim>
 std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
                                    const FaceReactions& reactions,
@@ -97,7 +139,7 @@ std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
                              e.gravity, e.kinetic + e.strain + e.gravity};
   for (int d = 0; d < Dim; ++d)
     row.push_back(e.momentum[d]);
-  row.push_back(static_cast<double>(scene.particles.size()));
+  row.push_back(static_cast<double>(point_count(scene)));
   if (!scene.spec.stages.empty())
     row.push_back(static_cast<double>(stage + 1));
   for (int f = 0; f < face_count(Dim); ++f)
@@ -109,15 +151,13 @@ std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
     for (int d = 0; d < Dim; ++d)
       row.push_back(f[d]);
   }
-  const auto& P = scene.particles;
-  for (const Index p : scene.probe_particles) {
-    const auto s = static_cast<std::size_t>(p);
+  for (const ProbeReading& probe : probe_readings(scene)) {
     for (int d = 0; d < Dim; ++d)
-      row.push_back(P.x[s][d]);
+      row.push_back(probe.x[d]);
     for (int d = 0; d < Dim; ++d)
-      row.push_back(P.v[s][d]);
+      row.push_back(probe.v[d]);
     for (const auto& [i, j] : probe_stress_components<Dim>())
-      row.push_back(P.stress[s](i, j));
+      row.push_back(probe.stress(i, j));
   }
   return row;
 }
@@ -147,26 +187,43 @@ template <int Dim> struct Recorder {
   void write_frame(Index step, double t) {
     const OutputSpec& out = scene.spec.output;
     const auto start = std::chrono::steady_clock::now();
+    const bool plastic = std::find(out.fields.begin(), out.fields.end(),
+                                   OutputField::PlasticStrain) != out.fields.end();
+    // A distributed run writes its frames from rank 0, with every rank's points in the serial
+    // order: the file is the one a serial run writes.
+    Particles<Dim> gathered;
+    if (scene.distributed()) {
+      gathered = gather_points(scene, plastic ? &plastic_strain : nullptr);
+      if (!scene.decomposition->comm().root()) {
+        writer.skip_frame();
+        note_frame(step, t, start);
+        return;
+      }
+    } else if (plastic) {
+      plastic_strain.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
+      for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
+    }
+    const Particles<Dim>& points = scene.distributed() ? gathered : scene.particles;
     FramePost<Dim> post;
     if (out.stress_recovery) {
       if (!recovery)
         recovery.emplace(scene.grid, scene.spec.solver.shape);
-      post.stress = &recovery->recover(scene.particles);
+      post.stress = &recovery->recover(points);
     }
     if (out.voxels) {
-      update_voxels<Dim>(scene.particles, scene.grid.origin(),
+      update_voxels<Dim>(points, scene.grid.origin(),
                          out.pattern_size.value_or(scene.grid.cell_size()), voxels);
       post.voxels = &voxels;
     }
     post_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (std::find(out.fields.begin(), out.fields.end(), OutputField::PlasticStrain) !=
-        out.fields.end()) {
-      plastic_strain.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
-      for (std::size_t m = 0; m < scene.materials.size(); ++m)
-        scene.materials[m]->plastic_strain(scene.particles_of_material[m], plastic_strain);
+    if (plastic)
       post.plastic_strain = &plastic_strain;
-    }
-    writer.write_frame<Dim>(step, stage_start_time + t, scene.particles, out.fields, post);
+    writer.write_frame<Dim>(step, stage_start_time + t, points, out.fields, post);
+    note_frame(step, t, start);
+  }
+
+  void note_frame(Index step, double t, std::chrono::steady_clock::time_point start) {
     frame_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     frame_at_current_step = true;
@@ -192,13 +249,18 @@ template <int Dim> struct Recorder {
 
   /// Stops the run (StateGuardError) when the guard found something; `when` says at which
   /// point of the step. A bad state is not written: the frames already on disk are the good ones.
+  /// Collective in a distributed run: every rank stops with the first finding of any rank.
   void stop_if_violated(const std::optional<StateViolation>& violation,
                         const std::string& when) const {
+    std::optional<std::string> found;
     if (violation)
+      found = violation->describe();
+    if (scene.distributed())
+      found = scene.decomposition->comm().first_message(found);
+    if (found)
       throw StateGuardError(
           fmt::format("state guard: {} {}; the last good frame is frame {} (step {}, t = {:g})",
-                      violation->describe(), when, writer.frames_written() - 1, last_frame_step,
-                      last_frame_time));
+                      *found, when, writer.frames_written() - 1, last_frame_step, last_frame_time));
   }
 
   /// The end of the next step: the end time or the next frame time, whichever comes first.

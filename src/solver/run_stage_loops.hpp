@@ -31,6 +31,14 @@ namespace talus::run_detail {
 /// Set by SIGINT/SIGTERM while a run steps: the loops stop after the step in progress.
 inline std::atomic<bool> g_interrupted{false};
 
+/// Whether the run was interrupted: in a distributed run, whether any rank was (collective),
+/// which then counts for every rank, so all stop after the same step.
+template <int Dim> bool interrupt_noticed(const Scene<Dim>& scene) {
+  if (scene.distributed())
+    g_interrupted = scene.decomposition->comm().any(g_interrupted);
+  return g_interrupted;
+}
+
 struct LoopState {
   double t = 0;               ///< the stage's time
   Index step = 0;             ///< steps of the whole run
@@ -59,11 +67,9 @@ struct LoopState {
 /// The probes' points now and at the start, for RunOptions::stop_after_step.
 template <int Dim> std::vector<ProbeState> probe_states(const Scene<Dim>& scene) {
   std::vector<ProbeState> out;
-  for (std::size_t k = 0; k < scene.probe_particles.size(); ++k) {
-    const auto p = static_cast<std::size_t>(scene.probe_particles[k]);
-    out.push_back({scene.probe_names[k], padded<Dim>(scene.particles.x0[p]),
-                   padded<Dim>(scene.particles.x[p])});
-  }
+  const std::vector<ProbeReading> readings = probe_readings(scene);
+  for (std::size_t k = 0; k < readings.size(); ++k)
+    out.push_back({scene.probe_names[k], readings[k].x0, readings[k].x});
   return out;
 }
 
@@ -128,11 +134,27 @@ private:
 /// in the implicit analyses), so every step starts from a consistent set of points.
 template <int Dim, class Solver>
 void split_after_step(Scene<Dim>& scene, Solver& solver, RunResult& result) {
-  const Index splits = split_material_points(scene);
+  const Index before = scene.particles.size();
+  Index splits = split_material_points(scene);
+  // A distributed run: every rank takes part in naming the new points, split or not.
+  if (scene.distributed() && splitting_requested(scene.spec))
+    splits = name_new_points(scene, before);
   if (splits == 0)
     return;
   solver.particles_changed();
   result.extra["splits"] += static_cast<double>(splits);
+}
+
+/// A distributed run: the points that have left their rank's cells move to the owners'.
+template <int Dim, class Solver>
+void move_points_to_owners(Scene<Dim>& scene, Solver& solver, RunResult& result) {
+  if (!scene.distributed())
+    return;
+  const MigrationCount moved = migrate_points(scene);
+  if (moved.sent + moved.received > 0)
+    solver.particles_changed();
+  result.extra["points_migrated"] +=
+      static_cast<double>(scene.decomposition->comm().sum(std::int64_t{moved.sent}));
 }
 
 /// Writes A in Matrix Market coordinate format (both triangles, 1-based).
@@ -175,7 +197,7 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   s.resumed_mid_stage = false;
   while (s.t < time.end_time * (1.0 - 1e-14)) {
     check_limits(time, s);
-    if (g_interrupted) {
+    if (interrupt_noticed(scene)) {
       s.checkpoint_if_due();
       record_loop_time();
       return;
@@ -200,20 +222,30 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
     };
     watch.before_step(scene.particles);
+    std::optional<std::string> failure; // a distributed run's: every rank stops together
     try {
       solver->step(dt);
-    } catch (const NumericalError&) {
+    } catch (const NumericalError& e) {
       // A material that met det F <= 0 or a point that left the grid: name the point if the
       // state shows it, otherwise pass the solver's own message on.
-      guard();
-      throw;
+      if (!scene.distributed()) {
+        guard();
+        throw;
+      }
+      failure = e.what();
     }
+    if (scene.distributed())
+      if (const auto first = scene.decomposition->comm().first_message(failure)) {
+        guard();
+        throw NumericalError(*first);
+      }
     guard();
     s.t = t_end;
     ++s.step;
     const bool stage_ends = watch.ends_after_step(scene.particles, s.t, dt);
     ask_stop(s, scene, rec.stage_start_time + s.t);
     split_after_step(scene, *solver, result);
+    move_points_to_owners(scene, *solver, result);
     const Energies e = solver->energies();
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.strain))
       throw NumericalError("non-finite energy");

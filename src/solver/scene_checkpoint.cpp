@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <stdexcept>
+#include <type_traits>
 
 namespace talus {
 
@@ -45,18 +46,30 @@ void narrow(const CheckpointReader& in, const std::string& name, std::size_t cou
   values.assign(wide.begin(), wide.end());
 }
 
-/// An optional particle block: stored when allocated, empty when the checkpoint has none.
+/// One per-point array under its name: numbers as they are, integers widened, Eigen values
+/// flattened.
 template <class T>
-void save_optional(CheckpointWriter& out, const std::string& name, const Array<T>& values) {
-  if (!values.empty())
-    out.put(name, flatten(values));
+void put_field(CheckpointWriter& out, const std::string& name, const Array<T>& a) {
+  if constexpr (std::is_same_v<T, double>)
+    out.put(name, a);
+  else if constexpr (std::is_integral_v<T>)
+    out.put(name, widen(a));
+  else
+    out.put(name, flatten(a));
 }
 template <class T>
-void restore_optional(const CheckpointReader& in, const std::string& name, std::size_t count,
-                      Array<T>& values) {
-  values.clear();
-  if (in.has(name))
-    unflatten(in, name, count, values);
+void read_field(const CheckpointReader& in, const std::string& name, std::size_t count,
+                Array<T>& a) {
+  if constexpr (std::is_same_v<T, double>) {
+    a = in.doubles(name);
+    if (a.size() != count)
+      throw std::runtime_error(fmt::format("checkpoint '{}': '{}' holds {} values, not {}",
+                                           in.file().string(), name, a.size(), count));
+  } else if constexpr (std::is_integral_v<T>) {
+    narrow(in, name, count, a);
+  } else {
+    unflatten(in, name, count, a);
+  }
 }
 
 } // namespace
@@ -64,23 +77,9 @@ void restore_optional(const CheckpointReader& in, const std::string& name, std::
 template <int Dim> void save_scene_state(const Scene<Dim>& scene, CheckpointWriter& out) {
   const Particles<Dim>& P = scene.particles;
   out.put_integer("particles/count", P.size());
-  out.put("particles/x", flatten(P.x));
-  out.put("particles/v", flatten(P.v));
-  out.put("particles/mass", P.mass);
-  out.put("particles/volume0", P.volume0);
-  out.put("particles/volume", P.volume);
-  out.put("particles/F", flatten(P.F));
-  out.put("particles/stress", flatten(P.stress));
-  out.put("particles/half_size0", flatten(P.half_size0));
-  out.put("particles/x0", flatten(P.x0));
-  out.put("particles/material", widen(P.material));
-  out.put("particles/body", widen(P.body));
-  out.put("particles/external_force", flatten(P.external_force));
-  save_optional(out, "particles/affine_velocity", P.affine_velocity);
-  save_optional(out, "particles/acceleration", P.acceleration);
-  save_optional(out, "particles/split_origin_inverse", P.split_origin_inverse);
-  if (!P.split_generation.empty())
-    out.put("particles/split_generation", widen(P.split_generation));
+  P.for_each_field([&](const char* name, const auto& a, const auto&) {
+    put_field(out, fmt::format("particles/{}", name), a);
+  });
 
   out.put_integer("materials/count", static_cast<std::int64_t>(scene.materials.size()));
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
@@ -105,27 +104,14 @@ template <int Dim> void save_scene_state(const Scene<Dim>& scene, CheckpointWrit
 template <int Dim> void restore_scene_state(const CheckpointReader& in, Scene<Dim>& scene) {
   const auto n = static_cast<std::size_t>(in.integer("particles/count"));
   Particles<Dim>& P = scene.particles;
-  unflatten(in, "particles/x", n, P.x);
-  unflatten(in, "particles/v", n, P.v);
-  P.mass = in.doubles("particles/mass");
-  P.volume0 = in.doubles("particles/volume0");
-  P.volume = in.doubles("particles/volume");
-  if (P.mass.size() != n || P.volume0.size() != n || P.volume.size() != n)
-    throw std::runtime_error(
-        fmt::format("checkpoint '{}': particle arrays of unequal length", in.file().string()));
-  unflatten(in, "particles/F", n, P.F);
-  unflatten(in, "particles/stress", n, P.stress);
-  unflatten(in, "particles/half_size0", n, P.half_size0);
-  unflatten(in, "particles/x0", n, P.x0);
-  narrow(in, "particles/material", n, P.material);
-  narrow(in, "particles/body", n, P.body);
-  unflatten(in, "particles/external_force", n, P.external_force);
-  restore_optional(in, "particles/affine_velocity", n, P.affine_velocity);
-  restore_optional(in, "particles/acceleration", n, P.acceleration);
-  restore_optional(in, "particles/split_origin_inverse", n, P.split_origin_inverse);
-  P.split_generation.clear();
-  if (in.has("particles/split_generation"))
-    narrow(in, "particles/split_generation", n, P.split_generation);
+  // Every array the checkpoint holds; an optional block it does not hold stays unallocated (a
+  // required one it lacks is refused by the reader, naming it).
+  P.for_each_possible_field([&](const char* name, auto& a, const auto&) {
+    const std::string entry = fmt::format("particles/{}", name);
+    a.clear();
+    if (in.has(entry) || !Particles<Dim>::optional_field(name))
+      read_field(in, entry, n, a);
+  });
 
   if (static_cast<std::size_t>(in.integer("materials/count")) != scene.materials.size())
     throw std::runtime_error(fmt::format("checkpoint '{}' has {} materials, the case {}",

@@ -21,8 +21,9 @@ std::optional<double> non_finite_component(const Eigen::MatrixBase<Derived>& m) 
 template <int Dim>
 StateViolation particle_violation(const Particles<Dim>& P, std::size_t s, const char* field,
                                   double value, const char* condition) {
-  return StateViolation{field, false,    static_cast<Index>(s), padded<Dim>(P.x0[s]), Dim,
-                        value, condition};
+  // A distributed run names the point as the serial run would.
+  const Index name = P.global_id.empty() ? static_cast<Index>(s) : P.global_id[s];
+  return StateViolation{field, false, name, padded<Dim>(P.x0[s]), Dim, value, condition};
 }
 
 } // namespace

@@ -265,7 +265,7 @@ void print_table(const std::string& case_name, const std::vector<Row>& rows, dou
 std::vector<std::string> bench_cases() {
   return {"cantilever",    "cantilever_large",    "column_large_compression",
           "vibrating_bar", "explicit_throughput", "newton_cost",
-          "fos_cost"};
+          "fos_cost",      "strong_scaling"};
 }
 
 int run_bench(const BenchOptions& options) {
@@ -291,6 +291,8 @@ int run_bench(const BenchOptions& options) {
     return run_newton_cost_bench(options);
   if (options.case_name == "fos_cost")
     return run_fos_cost_bench(options);
+  if (options.case_name == "strong_scaling")
+    return run_scaling_bench(options);
   const fs::path data_dir = verification_dir();
   // The large-deflection beam is the cantilever scene with overrides (see sweep()).
   const std::string scene =

@@ -7,6 +7,7 @@
 // number of seeds is TALUS_RESTART_SEEDS (default 1: the `verification` label; the `slow`
 // label runs more). Every run uses one thread: the explicit runs must then be bitwise equal.
 #include "../unit/cli_support.hpp"
+#include "../unit/result_comparison.hpp"
 
 #include "talus/io/checkpoint_file.hpp"
 #include "talus/io/csv.hpp"
@@ -36,58 +37,6 @@ int seeds() {
 Index rows_written(const fs::path& dir) {
   const std::string text = read_file(dir / "timeseries.csv");
   return std::max<Index>(0, static_cast<Index>(std::count(text.begin(), text.end(), '\n')) - 1);
-}
-
-/// How a resumed result may differ from the uninterrupted one: not at all (explicit runs on
-/// one thread), or by `relative` of each column's largest magnitude (implicit runs, whose
-/// Newton tolerance is 1e-8 of the force scale: 1e-9 is 10x under it; they were bitwise equal
-/// when measured).
-struct Equality {
-  double relative = 0;
-};
-
-void expect_same_series(const fs::path& reference, const fs::path& resumed, Equality eq) {
-  if (eq.relative == 0) {
-    EXPECT_TRUE(read_file(reference / "timeseries.csv") == read_file(resumed / "timeseries.csv"))
-        << "timeseries.csv differs";
-    return;
-  }
-  const talus::CsvTable a = talus::read_csv(reference / "timeseries.csv");
-  const talus::CsvTable b = talus::read_csv(resumed / "timeseries.csv");
-  ASSERT_EQ(a.rows(), b.rows());
-  for (const std::string& name : a.names) {
-    const auto& x = a.column(name);
-    const auto& y = b.column(name);
-    double scale = 0, diff = 0;
-    for (std::size_t r = 0; r < x.size(); ++r) {
-      scale = std::max(scale, std::abs(x[r]));
-      diff = std::max(diff, std::abs(x[r] - y[r]));
-    }
-    EXPECT_LE(diff, eq.relative * std::max(scale, 1e-300)) << "column " << name;
-  }
-}
-
-void expect_same_frames(const fs::path& reference, const fs::path& resumed, Equality eq) {
-  const talus::ResultsReader a(reference / "run.h5");
-  const talus::ResultsReader b(resumed / "run.h5");
-  ASSERT_EQ(a.frame_count(), b.frame_count());
-  for (Index f = 0; f < a.frame_count(); ++f) {
-    EXPECT_EQ(a.frame_step(f), b.frame_step(f));
-    EXPECT_EQ(a.frame_time(f), b.frame_time(f));
-    ASSERT_EQ(a.frame_fields(f), b.frame_fields(f));
-    for (const std::string& field : a.frame_fields(f)) {
-      Index ra = 0, ca = 0, rb = 0, cb = 0;
-      const auto x = a.read(f, field, &ra, &ca);
-      const auto y = b.read(f, field, &rb, &cb);
-      ASSERT_EQ(x.size(), y.size()) << "frame " << f << " " << field;
-      double scale = 0, diff = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        scale = std::max(scale, std::abs(x[i]));
-        diff = std::max(diff, std::abs(x[i] - y[i]));
-      }
-      EXPECT_LE(diff, eq.relative * scale) << "frame " << f << " " << field;
-    }
-  }
 }
 
 class Restart : public Cli {

@@ -92,14 +92,16 @@ inline int decode_status(int status) {
   return -1;
 }
 
-/// A `talus` child process with stdout and stderr redirected to files.
+/// A `talus` child process (or `program`, e.g. mpirun) with stdout and stderr redirected to
+/// files.
 class Child {
 public:
-  Child(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& capture_dir)
+  Child(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& capture_dir,
+        const std::string& program = TALUS_BINARY)
       : out_file_(capture_dir / "stdout.txt"), err_file_(capture_dir / "stderr.txt") {
     // Everything the child needs is prepared before fork(): after it, only async-signal-safe
     // calls.
-    std::vector<std::string> argv_text{TALUS_BINARY};
+    std::vector<std::string> argv_text{program};
     argv_text.insert(argv_text.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : argv_text)

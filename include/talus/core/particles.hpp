@@ -3,6 +3,8 @@
 // always-present kinematic core below, plus optional blocks a later feature switches on.
 #include "talus/core/types.hpp"
 
+#include <string_view>
+
 namespace talus {
 
 template <int Dim> struct Particles {
@@ -30,6 +32,10 @@ template <int Dim> struct Particles {
   Array<Mat3> split_origin_inverse;
   Array<int> split_generation; ///< splits in the point's ancestry (0: generated from a body)
 
+  /// A distributed run's name for each point, the same on every rank and kept when the point
+  /// moves between ranks: the point's index in the serial run (empty in a serial run).
+  Array<std::int64_t> global_id;
+
   Index size() const { return static_cast<Index>(x.size()); }
 
   /// The block of F along the grid's axes (in-plane in 2D, all of it in 3D).
@@ -40,57 +46,66 @@ template <int Dim> struct Particles {
     F[p].template topLeftCorner<Dim, Dim>() = dF * grid_F(p);
   }
 
+  /// f(name, array, fill) for every per-point array the points carry: the always-present ones,
+  /// then the optional blocks that are allocated; `fill` is the value a new point starts from.
+  /// The one list of the points' state: resizing, copying a point, checkpoints and moving
+  /// points between ranks all walk it.
+  template <class F> void for_each_field(F&& f) { visit_fields(*this, f, false); }
+  template <class F> void for_each_field(F&& f) const { visit_fields(*this, f, false); }
+  /// for_each_field that visits the optional blocks also when they are empty (a reader that
+  /// finds out which ones its source holds).
+  template <class F> void for_each_possible_field(F&& f) { visit_fields(*this, f, true); }
+  template <class F> void for_each_possible_field(F&& f) const { visit_fields(*this, f, true); }
+  /// Whether the field of that name is one of the optional blocks.
+  static bool optional_field(std::string_view name) {
+    for (const char* o : {"affine_velocity", "acceleration", "split_origin_inverse",
+                          "split_generation", "global_id"})
+      if (name == o)
+        return true;
+    return false;
+  }
+
   void resize(Index n) {
-    const auto s = static_cast<std::size_t>(n);
-    x.resize(s);
-    v.resize(s);
-    mass.resize(s);
-    volume0.resize(s);
-    volume.resize(s);
-    F.resize(s, Mat3::Identity());
-    stress.resize(s, Mat3::Zero());
-    half_size0.resize(s);
-    x0.resize(s);
-    material.resize(s);
-    body.resize(s);
-    external_force.resize(s, Vec<Dim>::Zero());
-    if (!affine_velocity.empty())
-      affine_velocity.resize(s, Mat<Dim>::Zero());
-    if (!acceleration.empty())
-      acceleration.resize(s, Vec<Dim>::Zero());
-    if (!split_origin_inverse.empty())
-      split_origin_inverse.resize(s, Mat3::Identity());
-    if (!split_generation.empty())
-      split_generation.resize(s, 0);
+    for_each_field([&](const char*, auto& a, const auto& fill) {
+      a.resize(static_cast<std::size_t>(n), fill);
+    });
   }
 
   /// Appends a copy of point p (every allocated field) and returns the new index.
   Index append_copy(Index p) {
     const auto from = static_cast<std::size_t>(p);
     const Index q = size();
-    resize(q + 1);
-    const auto to = static_cast<std::size_t>(q);
-    x[to] = x[from];
-    v[to] = v[from];
-    mass[to] = mass[from];
-    volume0[to] = volume0[from];
-    volume[to] = volume[from];
-    F[to] = F[from];
-    stress[to] = stress[from];
-    half_size0[to] = half_size0[from];
-    x0[to] = x0[from];
-    material[to] = material[from];
-    body[to] = body[from];
-    external_force[to] = external_force[from];
-    if (!affine_velocity.empty())
-      affine_velocity[to] = affine_velocity[from];
-    if (!acceleration.empty())
-      acceleration[to] = acceleration[from];
-    if (!split_origin_inverse.empty())
-      split_origin_inverse[to] = split_origin_inverse[from];
-    if (!split_generation.empty())
-      split_generation[to] = split_generation[from];
+    for_each_field([&](const char*, auto& a, const auto&) {
+      const auto value = a[from]; // a copy: push_back may reallocate under a reference
+      a.push_back(value);
+    });
     return q;
+  }
+
+private:
+  template <class Self, class F> static void visit_fields(Self& P, F& f, bool all) {
+    f("x", P.x, Vec<Dim>::Zero().eval());
+    f("v", P.v, Vec<Dim>::Zero().eval());
+    f("mass", P.mass, 0.0);
+    f("volume0", P.volume0, 0.0);
+    f("volume", P.volume, 0.0);
+    f("F", P.F, Mat3::Identity().eval());
+    f("stress", P.stress, Mat3::Zero().eval());
+    f("half_size0", P.half_size0, Vec<Dim>::Zero().eval());
+    f("x0", P.x0, Vec<Dim>::Zero().eval());
+    f("material", P.material, 0);
+    f("body", P.body, 0);
+    f("external_force", P.external_force, Vec<Dim>::Zero().eval());
+    if (all || !P.affine_velocity.empty())
+      f("affine_velocity", P.affine_velocity, Mat<Dim>::Zero().eval());
+    if (all || !P.acceleration.empty())
+      f("acceleration", P.acceleration, Vec<Dim>::Zero().eval());
+    if (all || !P.split_origin_inverse.empty())
+      f("split_origin_inverse", P.split_origin_inverse, Mat3::Identity().eval());
+    if (all || !P.split_generation.empty())
+      f("split_generation", P.split_generation, 0);
+    if (all || !P.global_id.empty())
+      f("global_id", P.global_id, std::int64_t{-1});
   }
 };
 

@@ -8,6 +8,7 @@
 #include "talus/grid/surface_load.hpp"
 #include "talus/io/case_spec.hpp"
 #include "talus/material/material.hpp"
+#include "talus/parallel/decomposition.hpp"
 
 #include <array>
 #include <cstdint>
@@ -34,6 +35,12 @@ template <int Dim> struct Scene {
   std::vector<SurfaceLoad<Dim>> surface_loads; ///< the tractions, per loaded point
   std::vector<Index> probe_particles;          ///< one particle per ProbeSpec, same order
   std::vector<std::string> probe_names;
+  /// A distributed run's split of the cells over the ranks; null in a serial run. Each rank's
+  /// scene then holds its own points only (parallel/migration.hpp), and a probe whose point
+  /// lives on another rank has the particle -1.
+  std::shared_ptr<const Decomposition<Dim>> decomposition;
+
+  bool distributed() const { return decomposition && decomposition->comm().distributed(); }
 };
 
 /// Throws InputError (with the spec's locations) for a scene that cannot be built, e.g. a body

@@ -62,7 +62,7 @@ public:
         np, [&](Index p) { return !grid.inside(particles.x[static_cast<std::size_t>(p)]); });
     if (outside >= 0)
       throw NumericalError(
-          fmt::format("particle {} left the grid: position ({:g})", outside,
+          fmt::format("particle {} left the grid: position ({:g})", name_of(particles, outside),
                       fmt::join(particles.x[static_cast<std::size_t>(outside)], ", ")));
     if constexpr (tensor_product<Shape>() && Shape::kDomainFollowsStretch) {
       const Index wide = parallel_find_first(np, [&](Index p) {
@@ -71,7 +71,8 @@ public:
       });
       if (wide >= 0)
         throw_domain_too_wide(
-            wide, domain_half_widths<Dim, Shape>(particles, static_cast<std::size_t>(wide)), h);
+            name_of(particles, wide),
+            domain_half_widths<Dim, Shape>(particles, static_cast<std::size_t>(wide)), h);
     }
     if constexpr (tensor_product<Shape>()) {
       // The first nodes, then the bins, then the values straight into their slots.
@@ -208,6 +209,11 @@ private:
         }
       }
     }
+  }
+
+  /// How messages name point p: its global id in a distributed run, else its index.
+  static Index name_of(const Particles<Dim>& particles, Index p) {
+    return particles.global_id.empty() ? p : particles.global_id[static_cast<std::size_t>(p)];
   }
 
   /// A domain that follows the stretch must stay within the stencil's reach.

@@ -65,6 +65,11 @@ public:
   /// kept.size() frames of the file), deletes any written after them, rewrites run.xmf.
   /// Throws std::runtime_error if the file lacks one of the kept frames.
   ResultsWriter(std::filesystem::path dir, RunMetadata metadata, std::vector<FrameRecord> kept);
+  /// The writer of a distributed run's other ranks: writes nothing, counts the frames rank 0
+  /// writes (skip_frame), so messages that name a frame agree on every rank.
+  struct CountOnly {};
+  explicit ResultsWriter(CountOnly) {}
+  void skip_frame() { ++frames_; }
   /// Dim must be the metadata's dimension.
   template <int Dim>
   void write_frame(Index step, double time, const Particles<Dim>& particles,
@@ -116,6 +121,8 @@ private:
 /// timeseries.csv: one header line, one row per call, flushed so a killed run keeps its rows.
 class TimeSeriesWriter {
 public:
+  /// A writer of no file (a distributed run's ranks other than 0): rows are checked, not written.
+  explicit TimeSeriesWriter(std::size_t columns) : columns_(columns) {}
   /// Creates `file` with the header line. `append`: continues an existing file (a resumed run,
   /// which has cut it back to the checkpoint's rows), writing no header.
   TimeSeriesWriter(const std::filesystem::path& file, std::vector<std::string> columns,

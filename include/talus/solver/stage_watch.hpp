@@ -10,6 +10,7 @@
 // times its largest value in the stage for `duration` seconds of the stage's time.
 #include "talus/core/particles.hpp"
 #include "talus/io/case_spec.hpp"
+#include "talus/parallel/communicator.hpp"
 
 #include <chrono>
 #include <optional>
@@ -20,7 +21,8 @@ namespace talus {
 
 class StageWatch {
 public:
-  explicit StageWatch(const StageSpec& stage);
+  /// `ranks`: a distributed run's, which then judge rest and time together.
+  explicit StageWatch(const StageSpec& stage, const Communicator* ranks = nullptr);
 
   /// Before each step (attempt): remembers the positions, if the stage watches for rest.
   template <int Dim> void before_step(const Particles<Dim>& P);
@@ -48,6 +50,7 @@ public:
 
 private:
   const StageSpec& stage_;
+  const Communicator* ranks_;
   std::chrono::steady_clock::time_point started_;
   double peak_kinetic_ = 0;
   std::optional<double> quiet_since_{};

@@ -15,6 +15,8 @@
 // factorisation + solve of its own tangent (Google Benchmark), with memory per point, in 2D and
 // 3D, optionally side by side with an older binary (`--vs`). `--case fos_cost`
 // (fos_cost_bench.cpp) is the CPU and the bracket of each factor-of-safety mode.
+// `--case strong_scaling` (scaling_bench.cpp) is a distributed explicit run on two ranks
+// against the serial run on one and on two threads: speed-up, efficiency, communication share.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -53,5 +55,9 @@ int run_newton_cost_bench(const BenchOptions& options);
 
 /// `--case fos_cost` (called by run_bench).
 int run_fos_cost_bench(const BenchOptions& options);
+
+/// `--case strong_scaling` (called by run_bench): serial on one thread, mpirun -np 2, serial
+/// on two threads, for a 2D and a 3D explicit case (scaling_bench.cpp).
+int run_scaling_bench(const BenchOptions& options);
 
 } // namespace talus

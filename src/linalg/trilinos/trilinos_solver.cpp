@@ -51,22 +51,6 @@ using import_type = Tpetra::Import<LO, GO, NO>;
 using ifpack_type = Ifpack2::Preconditioner<SC, LO, GO, NO>;
 using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
-/// Initialises MPI (singleton MPI_COMM_WORLD when started without mpirun) and Kokkos once, unless
-/// the application already did; Tpetra::finalize at exit undoes only what it did itself.
-void ensure_tpetra_initialized() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    if (Tpetra::isInitialized()) {
-      return;
-    }
-    static char program[] = "talus";
-    static char* args[] = {program, nullptr};
-    int argc = 1;
-    char** argv = args;
-    Tpetra::initialize(&argc, &argv);
-    std::atexit([] { Tpetra::finalize(); });
-  });
-}
 
 enum class Precond { MueLu, Ifpack2 };
 
@@ -333,6 +317,21 @@ private:
 };
 
 } // namespace
+
+void ensure_tpetra_initialized() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (Tpetra::isInitialized()) {
+      return;
+    }
+    static char program[] = "talus";
+    static char* args[] = {program, nullptr};
+    int argc = 1;
+    char** argv = args;
+    Tpetra::initialize(&argc, &argv);
+    std::atexit([] { Tpetra::finalize(); });
+  });
+}
 
 std::unique_ptr<LinearSolver> make_trilinos_solver(const LinearSolverOptions& options) {
   if (options.kind != LinearSolverKind::TrilinosCg &&

@@ -16,4 +16,9 @@ namespace talus::detail {
 /// Throws std::invalid_argument for another kind or an unknown preconditioner name.
 std::unique_ptr<LinearSolver> make_trilinos_solver(const LinearSolverOptions& options);
 
+/// Initialises MPI (singleton MPI_COMM_WORLD when started without mpirun) and Kokkos once, unless
+/// the application already did; Tpetra::finalize at exit undoes only what it did itself. Every
+/// use of Trilinos (the solvers, Zoltan2) calls it first.
+void ensure_tpetra_initialized();
+
 } // namespace talus::detail
