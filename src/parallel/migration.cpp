@@ -300,6 +300,18 @@ template <int Dim> MigrationCount migrate_points(Scene<Dim>& scene) {
   return count;
 }
 
+template <int Dim> Index rebalance(Scene<Dim>& scene, double threshold) {
+  const Communicator& comm = scene.decomposition->comm();
+  const std::vector<std::int64_t> counts = comm.all_gather(std::int64_t{scene.particles.size()});
+  const double total = static_cast<double>(std::accumulate(counts.begin(), counts.end(), 0LL));
+  const double largest = static_cast<double>(*std::max_element(counts.begin(), counts.end()));
+  if (!(largest > threshold * total / static_cast<double>(counts.size())))
+    return -1;
+  scene.decomposition = std::make_shared<Decomposition<Dim>>(Decomposition<Dim>::partition(
+      comm, scene.grid, std::span<const Vec<Dim>>(scene.particles.x)));
+  return migrate_points(scene).sent;
+}
+
 template <int Dim> Index name_new_points(Scene<Dim>& scene, Index first_new) {
   Particles<Dim>& P = scene.particles;
   const Communicator& comm = scene.decomposition->comm();
@@ -380,6 +392,8 @@ template void distribute_scene<2>(Scene<2>&, const Communicator&);
 template void distribute_scene<3>(Scene<3>&, const Communicator&);
 template MigrationCount migrate_points<2>(Scene<2>&);
 template MigrationCount migrate_points<3>(Scene<3>&);
+template Index rebalance<2>(Scene<2>&, double);
+template Index rebalance<3>(Scene<3>&, double);
 template Index name_new_points<2>(Scene<2>&, Index);
 template Index name_new_points<3>(Scene<3>&, Index);
 template Particles<2> gather_points<2>(const Scene<2>&, std::vector<double>*);

@@ -5,8 +5,11 @@
 
 namespace talus {
 
-template <int Dim> void NodeHalo<Dim>::connect(const ActiveNodes<Dim>& nodes) {
-  const Decomposition<Dim>& dec = *decomposition_;
+template <int Dim>
+void NodeHalo<Dim>::connect(const Decomposition<Dim>& decomposition,
+                            const ActiveNodes<Dim>& nodes) {
+  decomposition_ = &decomposition;
+  const Decomposition<Dim>& dec = decomposition;
   const std::vector<int>& neighbours = dec.neighbours();
   // To each neighbour, the lattice ids of the active nodes its points may reach; from it, the
   // same of its nodes. Both lists ascend, so their intersection is one merge, and it is the

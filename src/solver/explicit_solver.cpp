@@ -34,7 +34,7 @@ public:
     for (const auto& material : scene.materials)
       wave_speed_.push_back(material->wave_speed());
     if (scene.distributed())
-      halo_.emplace(*scene.decomposition);
+      halo_.emplace();
     // Stress consistent with the initial F: a plastic model's evaluation at an unchanged F
     // may still move its stress by round-off, so a resumed stage, whose stress is current,
     // does not repeat it.
@@ -46,7 +46,7 @@ public:
     update_map();
     size_node_arrays();
     if (halo_)
-      halo_->connect(map_.nodes());
+      halo_->connect(*scene_.decomposition, map_.nodes());
     if constexpr (Axisymmetric) {
       const auto& P = scene_.particles;
       radius_n_.resize(at(P.size()));

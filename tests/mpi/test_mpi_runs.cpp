@@ -110,7 +110,8 @@ TEST_F(Mpi, PlasticDiscsCarryTheirHistory) {
   expect_agree(5e-10);
 }
 
-// The Mohr-Coulomb column collapse with splitting: points split on both ranks and their children
+// The Mohr-Coulomb column collapse with splitting and repartitioning: points split on both ranks
+// and their children
 // are named as the serial run names them (after all points, in their parents' order), so the
 // frames line up point for point (904 splits by t = 1 s, the same on both). A return map, as for
 // the Tresca discs: measured 2.5e-10 (stress); 1e-9 is 4x that.
@@ -120,6 +121,8 @@ TEST_F(Mpi, SplittingColumnEqualsTheSerialRun) {
   const auto summary = summary_of(work() / "distributed");
   EXPECT_GT(summary.at("splits").get<double>(), 0);
   EXPECT_EQ(summary.at("splits"), summary_of(work() / "serial").at("splits"));
+  // The collapse moves material across the cut: the cells are partitioned again on the way.
+  EXPECT_GT(summary.at("repartitions").get<double>(), 0);
 }
 
 // Three ranks for two discs: the partition may leave a rank with few or no points, and the

@@ -21,6 +21,12 @@ struct MigrationCount {
 /// Sends the points whose cell another rank owns to that rank. Collective.
 template <int Dim> MigrationCount migrate_points(Scene<Dim>& scene);
 
+/// Partitions the cells again when the ranks' shares of the points have drifted apart (the
+/// largest above `threshold` times the mean) and moves the points to their new owners. The
+/// decomposition is replaced: a solver takes it anew each step. Collective; returns the points
+/// this rank handed to others (-1: no repartition).
+template <int Dim> Index rebalance(Scene<Dim>& scene, double threshold);
+
 /// Names the points a rank appended from `first_new` on (splitting: each a copy of its parent,
 /// global id included) as the serial run numbers them: after all the points there were, in the
 /// order of their parents' global ids. Collective; returns the number of new points over all

@@ -14,11 +14,10 @@ namespace talus {
 
 template <int Dim> class NodeHalo {
 public:
-  explicit NodeHalo(const Decomposition<Dim>& decomposition) : decomposition_(&decomposition) {}
-
   /// Finds, with the neighbouring ranks, which of this step's active nodes they hold as well.
-  /// Collective among neighbours; call once per step, after the active nodes are known.
-  void connect(const ActiveNodes<Dim>& nodes);
+  /// Collective among neighbours; call once per step, after the active nodes are known. The
+  /// decomposition is the step's (a repartition replaces it between steps).
+  void connect(const Decomposition<Dim>& decomposition, const ActiveNodes<Dim>& nodes);
 
   /// One per-node array to sum: `width` doubles per active node.
   struct Field {
@@ -37,7 +36,7 @@ public:
   }
 
 private:
-  const Decomposition<Dim>* decomposition_;
+  const Decomposition<Dim>* decomposition_ = nullptr;
   std::vector<int> peers_;                     ///< neighbours that share nodes this step
   std::vector<std::vector<Index>> with_peer_;  ///< per peer: shared node numbers, ascending
   std::vector<std::vector<std::size_t>> slot_; ///< per peer: their index into shared_
