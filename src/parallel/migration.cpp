@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 namespace talus {
@@ -312,6 +313,24 @@ template <int Dim> Index rebalance(Scene<Dim>& scene, double threshold) {
   return migrate_points(scene).sent;
 }
 
+template <int Dim>
+void with_points_on_root(Scene<Dim>& scene, const std::function<void()>& work) {
+  const auto owners = scene.decomposition;
+  scene.decomposition = std::make_shared<Decomposition<Dim>>(
+      Decomposition<Dim>::all_on(owners->comm(), scene.grid, 0));
+  migrate_points(scene);
+  std::optional<std::string> failure;
+  try {
+    work();
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  scene.decomposition = owners;
+  migrate_points(scene);
+  if (const auto first = owners->comm().first_message(failure))
+    throw std::runtime_error(*first);
+}
+
 template <int Dim> Index name_new_points(Scene<Dim>& scene, Index first_new) {
   Particles<Dim>& P = scene.particles;
   const Communicator& comm = scene.decomposition->comm();
@@ -392,6 +411,8 @@ template void distribute_scene<2>(Scene<2>&, const Communicator&);
 template void distribute_scene<3>(Scene<3>&, const Communicator&);
 template MigrationCount migrate_points<2>(Scene<2>&);
 template MigrationCount migrate_points<3>(Scene<3>&);
+template void with_points_on_root<2>(Scene<2>&, const std::function<void()>&);
+template void with_points_on_root<3>(Scene<3>&, const std::function<void()>&);
 template Index rebalance<2>(Scene<2>&, double);
 template Index rebalance<3>(Scene<3>&, double);
 template Index name_new_points<2>(Scene<2>&, Index);

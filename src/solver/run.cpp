@@ -113,51 +113,6 @@ void prepare_output_directory(const fs::path& dir, bool force) {
 
 namespace {
 
-/// A resumed run's starting point: its newest valid checkpoint, read and checked against the
-/// case, with the scene's points restored from it. Throws InputError (exit 2) when there is
-/// no usable checkpoint or the case differs; nothing is written before.
-template <int Dim>
-run_detail::RunProgress resume_from_checkpoint(Scene<Dim>& scene, const fs::path& out_dir,
-                                               const RunOptions& options) {
-  std::vector<std::string> skipped;
-  const CheckpointReader checkpoint = run_detail::newest_valid_checkpoint(out_dir, skipped);
-  for (const auto& why : skipped)
-    fmt::print(stderr, "talus: {}\n", why);
-  run_detail::RunProgress progress = run_detail::read_progress(checkpoint);
-  if (progress.dimension != Dim)
-    throw InputError({"--resume", 0, 0, ""},
-                     fmt::format("checkpoint '{}' is of a {}D run; the case is {}D",
-                                 checkpoint.file().string(), progress.dimension, Dim));
-  run_detail::check_same_case(scene.spec, progress, options.accept_changes);
-  try {
-    restore_scene_state(checkpoint, scene);
-  } catch (const std::runtime_error& e) {
-    throw InputError({"--resume", 0, 0, ""}, e.what());
-  }
-  // The backend the run chose by itself stays (the choice depends on the first step's size).
-  if (!progress.linear_solver.empty())
-    scene.spec.solver.linear_solver = progress.linear_solver;
-  // As StageStrength::at: the materials as built have the factor 1 (and the return map
-  // reduce_strength(1) makes may differ from it in the last bit).
-  if (progress.strength_factor != 1.0)
-    set_strength(scene, scene.spec, progress.strength_factor);
-  // Rows and log lines written after the checkpoint are written again.
-  for (const auto& [file, bytes] :
-       {std::pair{out_dir / "timeseries.csv", progress.timeseries_bytes},
-        std::pair{out_dir / "newton.log", progress.newton_log_bytes}}) {
-    std::error_code ec;
-    if (bytes > 0 && (!fs::exists(file, ec) || fs::file_size(file, ec) < bytes))
-      throw InputError({"--resume", 0, 0, ""},
-                       fmt::format("'{}' is shorter than when checkpoint '{}' was written",
-                                   file.string(), checkpoint.file().string()));
-    if (bytes > 0)
-      fs::resize_file(file, bytes);
-  }
-  fmt::print(stderr, "talus: resuming from '{}' (step {}, t = {:g})\n", checkpoint.file().string(),
-             progress.step, progress.stage_start_time + progress.t);
-  return progress;
-}
-
 /// What a distributed run cannot do yet, refused before anything is written (exit 2).
 void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& options) {
   auto refuse = [](const std::string& what) {
@@ -167,10 +122,6 @@ void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& opti
   for (const StageSpec& stage : stages_of(spec))
     if (stage.analysis != AnalysisType::Explicit)
       refuse(fmt::format("an implicit analysis ('{}')", analysis_name(stage.analysis)));
-  if (spec.output.checkpoint)
-    refuse("output.checkpoint");
-  if (options.resume)
-    refuse("--resume");
   if (!options.dump_tangent.empty())
     refuse("--dump-tangent");
 }
@@ -194,6 +145,55 @@ void on_root(const Communicator& ranks, const std::function<void()>& work) {
     throw InputError({"mpirun", 0, 0, ""}, *first);
 }
 
+/// A resumed run's starting point: its newest valid checkpoint, read and checked against the
+/// case, with the scene's points restored from it. Throws InputError (exit 2) when there is
+/// no usable checkpoint or the case differs; nothing is written before.
+template <int Dim>
+run_detail::RunProgress resume_from_checkpoint(Scene<Dim>& scene, const fs::path& out_dir,
+                                               const RunOptions& options,
+                                               const Communicator& ranks) {
+  std::vector<std::string> skipped;
+  const CheckpointReader checkpoint = run_detail::newest_valid_checkpoint(out_dir, skipped);
+  if (ranks.root())
+    for (const auto& why : skipped)
+      fmt::print(stderr, "talus: {}\n", why);
+  run_detail::RunProgress progress = run_detail::read_progress(checkpoint);
+  if (progress.dimension != Dim)
+    throw InputError({"--resume", 0, 0, ""},
+                     fmt::format("checkpoint '{}' is of a {}D run; the case is {}D",
+                                 checkpoint.file().string(), progress.dimension, Dim));
+  run_detail::check_same_case(scene.spec, progress, options.accept_changes);
+  try {
+    restore_scene_state(checkpoint, scene);
+  } catch (const std::runtime_error& e) {
+    throw InputError({"--resume", 0, 0, ""}, e.what());
+  }
+  // The backend the run chose by itself stays (the choice depends on the first step's size).
+  if (!progress.linear_solver.empty())
+    scene.spec.solver.linear_solver = progress.linear_solver;
+  // As StageStrength::at: the materials as built have the factor 1 (and the return map
+  // reduce_strength(1) makes may differ from it in the last bit).
+  if (progress.strength_factor != 1.0)
+    set_strength(scene, scene.spec, progress.strength_factor);
+  // Rows and log lines written after the checkpoint are written again.
+  on_root(ranks, [&] {
+    for (const auto& [file, bytes] :
+         {std::pair{out_dir / "timeseries.csv", progress.timeseries_bytes},
+          std::pair{out_dir / "newton.log", progress.newton_log_bytes}}) {
+      std::error_code ec;
+      if (bytes > 0 && (!fs::exists(file, ec) || fs::file_size(file, ec) < bytes))
+        throw InputError({"--resume", 0, 0, ""},
+                         fmt::format("'{}' is shorter than when checkpoint '{}' was written",
+                                     file.string(), checkpoint.file().string()));
+      if (bytes > 0)
+        fs::resize_file(file, bytes);
+    }
+    fmt::print(stderr, "talus: resuming from '{}' (step {}, t = {:g})\n",
+               checkpoint.file().string(), progress.step, progress.stage_start_time + progress.t);
+  });
+  return progress;
+}
+
 /// run_case for a case of dimension Dim: the stages, each from the state the previous left.
 template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -202,17 +202,19 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   // A distributed run: every rank built the whole scene and keeps its share; rank 0 alone
   // writes files, with every rank's points in them.
   const Communicator& ranks = Communicator::world();
-  if (ranks.distributed()) {
+  if (ranks.distributed())
     refuse_unsupported_distributed(spec, options);
-    distribute_scene(scene, ranks);
-  }
   RunResult result;
   result.out_dir = options.out_dir.empty() ? fs::path("results") / spec.name : options.out_dir;
   std::optional<run_detail::RunProgress> resumed;
+  // A checkpoint holds the whole run in the serial order, whatever ranks wrote it: every rank
+  // restores it whole, then keeps its share.
   if (options.resume)
-    resumed = resume_from_checkpoint(scene, result.out_dir, options);
+    resumed = resume_from_checkpoint(scene, result.out_dir, options, ranks);
   else
     on_root(ranks, [&] { prepare_output_directory(result.out_dir, options.force); });
+  if (ranks.distributed())
+    distribute_scene(scene, ranks);
   if (options.threads > 0)
     omp_set_num_threads(options.threads);
   else if (ranks.distributed()) // the machine's cores shared among its ranks
@@ -221,7 +223,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   if (ranks.root())
     fs::create_directories(result.out_dir);
   ResultsWriter writer =
-      !ranks.root() ? ResultsWriter(ResultsWriter::CountOnly{})
+      !ranks.root() ? ResultsWriter(ResultsWriter::CountOnly{},
+                                    resumed ? static_cast<Index>(resumed->frames.size()) : 0)
       : resumed     ? ResultsWriter(result.out_dir, run_detail::metadata_of(scene), resumed->frames)
                     : ResultsWriter(result.out_dir, run_detail::metadata_of(scene));
   const std::vector<std::string> columns = run_detail::timeseries_columns(scene);
@@ -323,24 +326,36 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     p.stages = result.stages;
     p.frames = writer.frames();
     std::error_code ec;
-    p.timeseries_bytes = fs::file_size(result.out_dir / "timeseries.csv");
-    const fs::path log = result.out_dir / "newton.log";
-    p.newton_log_bytes = fs::exists(log, ec) ? fs::file_size(log) : 0;
+    if (ranks.root()) { // the files rank 0 writes
+      p.timeseries_bytes = fs::file_size(result.out_dir / "timeseries.csv");
+      const fs::path log = result.out_dir / "newton.log";
+      p.newton_log_bytes = fs::exists(log, ec) ? fs::file_size(log) : 0;
+    }
     p.next_frame_time = recorder.next_frame_time;
     p.frame_at_current_step = recorder.frame_at_current_step;
     p.last_frame_step = recorder.last_frame_step;
     p.last_frame_time = recorder.last_frame_time;
     p.frame_seconds = recorder.frame_seconds;
     p.post_seconds = recorder.post_seconds;
-    CheckpointWriter file(run_detail::checkpoint_file(result.out_dir, state.step));
-    run_detail::put_progress(file, p);
-    save_scene_state(scene, file);
-    file.commit();
-    run_detail::prune_checkpoints(result.out_dir);
+    // Rank 0 writes, with every point gathered there in the serial order: the checkpoint is the
+    // one a serial run writes, and resumes on any number of ranks.
+    auto save = [&] {
+      if (!ranks.root())
+        return;
+      CheckpointWriter file(run_detail::checkpoint_file(result.out_dir, state.step));
+      run_detail::put_progress(file, p);
+      save_scene_state(scene, file);
+      file.commit();
+      run_detail::prune_checkpoints(result.out_dir);
+      result.extra["checkpoint_bytes"] = static_cast<double>(file.bytes());
+    };
+    if (scene.distributed())
+      with_points_on_root(scene, save);
+    else
+      save();
     last_checkpoint = std::chrono::steady_clock::now();
     result.extra["seconds_checkpoint"] +=
         std::chrono::duration<double>(last_checkpoint - start).count();
-    result.extra["checkpoint_bytes"] = static_cast<double>(file.bytes());
   };
   try {
     for (std::size_t k = first_stage; k < stages.size() && !g_interrupted; ++k) {
@@ -381,12 +396,14 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
       }
       if (checkpoint_spec)
         state.checkpoint = [&, k] {
-          const bool due =
+          bool due =
               g_interrupted || watch.out_of_time() ||
               (checkpoint_spec->every_steps && state.step % *checkpoint_spec->every_steps == 0) ||
               (checkpoint_spec->every_seconds &&
                std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
                        .count() >= *checkpoint_spec->every_seconds);
+          if (ranks.distributed()) // the ranks' clocks differ: one rank's due is everyone's
+            due = ranks.any(due);
           if (due)
             write_checkpoint(k, true, strength.start(), &watch);
         };

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <stdexcept>
+#include <string_view>
 #include <type_traits>
 
 namespace talus {
@@ -77,8 +78,11 @@ void read_field(const CheckpointReader& in, const std::string& name, std::size_t
 template <int Dim> void save_scene_state(const Scene<Dim>& scene, CheckpointWriter& out) {
   const Particles<Dim>& P = scene.particles;
   out.put_integer("particles/count", P.size());
+  // A distributed run saves its points gathered in the serial order (with_points_on_root), so
+  // their global ids are their indices: the ranks of a resumed run number them anew.
   P.for_each_field([&](const char* name, const auto& a, const auto&) {
-    put_field(out, fmt::format("particles/{}", name), a);
+    if (std::string_view(name) != "global_id")
+      put_field(out, fmt::format("particles/{}", name), a);
   });
 
   out.put_integer("materials/count", static_cast<std::int64_t>(scene.materials.size()));

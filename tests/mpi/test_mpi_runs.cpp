@@ -10,6 +10,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <memory>
+#include <thread>
 
 namespace fs = std::filesystem;
 using namespace talus::test_support;
@@ -68,7 +71,7 @@ protected:
 
   /// The two results agree to `relative` of each field's and column's scale; a momentum that
   /// is conserved at zero is judged against the largest momentum of the motion, sqrt(2 M E_kin).
-  void expect_agree(double relative) {
+  void expect_agree(double relative, const std::string& other = "distributed") {
     const talus::CsvTable series = talus::read_csv(work() / "serial" / "timeseries.csv");
     const talus::ResultsReader reader(work() / "serial" / "run.h5");
     Index rows = 0, cols = 0;
@@ -81,8 +84,8 @@ protected:
     Equality eq{relative, {}};
     for (const char* axis : {"x", "y", "z"})
       eq.column_scale[std::string("momentum_") + axis] = momentum;
-    expect_same_series(work() / "serial", work() / "distributed", eq);
-    expect_same_frames(work() / "serial", work() / "distributed", eq);
+    expect_same_series(work() / "serial", work() / other, eq);
+    expect_same_frames(work() / "serial", work() / other, eq);
   }
 };
 
@@ -182,6 +185,63 @@ TEST_F(Mpi, AFailingRankStopsEveryRank) {
     for (double v : reader.read(f, "position", &rows, &cols))
       ASSERT_TRUE(std::isfinite(v)) << "frame " << f;
   }
+}
+
+/// The processes `pid` started (mpirun's ranks).
+std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> out;
+  for (const auto& task : fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "task")) {
+    std::ifstream in(task.path() / "children");
+    for (pid_t child = 0; in >> child;)
+      out.push_back(child);
+  }
+  return out;
+}
+
+// SIGTERM to one rank mid-run (a scheduler signals a job's tasks; mpirun itself passes a signal
+// on only after a delay): every rank stops after the same step, rank 0 writes a checkpoint
+// holding the whole run in the serial order, and the run resumes on two ranks or on one, each
+// ending as the serial run does (within 1e-12, as above).
+TEST_F(Mpi, AnInterruptedRunResumesOnAnyNumberOfRanks) {
+  const std::string case_file = (kCases / "colliding_discs.yaml").string();
+  // Twice as fine as the case (6.5k points, 1000 steps, about a second): time to interrupt.
+  const std::vector<std::string> common = {"--threads", "1", "--set",
+                                           "output.checkpoint.every_steps=50", "--set",
+                                           "grid.cell_size=0.0125"};
+  auto args = [&](std::vector<std::string> head) {
+    head.insert(head.end(), common.begin(), common.end());
+    return head;
+  };
+  const Outcome serial = talus(args({"run", case_file, "--out", "serial"}));
+  ASSERT_EQ(serial.exit_code, 0) << serial.describe();
+
+  std::vector<std::string> launch = {"-np", "2", "--oversubscribe", TALUS_BINARY};
+  for (const auto& a : args({"run", case_file, "--out", "killed"}))
+    launch.push_back(a);
+  Child child(launch, work(), root_, TALUS_MPIEXEC);
+  ASSERT_TRUE(child.started());
+  const fs::path series = work() / "killed" / "timeseries.csv";
+  while (!fs::exists(series) ||
+         std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(series)), {},
+                    '\n') < 150) {
+    if (const auto done = child.poll())
+      FAIL() << "the run ended before the interrupt:\n" << done->describe();
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
+  const std::vector<pid_t> ranks = children_of(child.pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  ::kill(ranks.back(), SIGTERM);
+  const Outcome stopped = child.wait();
+  ASSERT_EQ(summary_of(work() / "killed").at("status"), "interrupted") << stopped.describe();
+  ASSERT_TRUE(fs::exists(work() / "killed" / "checkpoints"));
+  fs::copy(work() / "killed", work() / "killed_serial", fs::copy_options::recursive);
+
+  const Outcome on_two = mpirun(2, args({"run", case_file, "--resume", "killed"}));
+  ASSERT_EQ(on_two.exit_code, 0) << on_two.describe();
+  expect_agree(1e-12, "killed");
+  const Outcome on_one = talus(args({"run", case_file, "--resume", "killed_serial"}));
+  ASSERT_EQ(on_one.exit_code, 0) << on_one.describe();
+  expect_agree(1e-12, "killed_serial");
 }
 
 // What does not run distributed yet is refused before anything is written (exit 2).

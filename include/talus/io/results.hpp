@@ -68,7 +68,8 @@ public:
   /// The writer of a distributed run's other ranks: writes nothing, counts the frames rank 0
   /// writes (skip_frame), so messages that name a frame agree on every rank.
   struct CountOnly {};
-  explicit ResultsWriter(CountOnly) {}
+  /// `frames`: the frames already written (a resumed run's).
+  ResultsWriter(CountOnly, Index frames) : frames_(frames) {}
   void skip_frame() { ++frames_; }
   /// Dim must be the metadata's dimension.
   template <int Dim>

@@ -28,6 +28,20 @@ public:
   static Decomposition partition(const Communicator& comm, const Grid<Dim>& grid,
                                  std::span<const Vec<Dim>> positions);
 
+  /// Every point on rank `r` (the others own nothing): a run's whole state in one place, for a
+  /// checkpoint.
+  static Decomposition all_on(const Communicator& comm, const Grid<Dim>& grid, int r) {
+    Decomposition out;
+    out.comm_ = &comm;
+    out.grid_ = grid;
+    out.boxes_.resize(static_cast<std::size_t>(comm.size()));
+    for (std::size_t k = 0; k < out.boxes_.size(); ++k) {
+      out.boxes_[k].lower.fill(static_cast<int>(k) == r ? -INFINITY : INFINITY);
+      out.boxes_[k].upper.fill(static_cast<int>(k) == r ? INFINITY : -INFINITY);
+    }
+    return out;
+  }
+
   const Communicator& comm() const { return *comm_; }
   const std::vector<PartBox>& boxes() const { return boxes_; }
 

@@ -6,6 +6,8 @@
 #include "talus/core/scene.hpp"
 #include "talus/parallel/decomposition.hpp"
 
+#include <functional>
+
 namespace talus {
 
 /// Turns a scene every rank built whole into this rank's share: numbers the points (global_id:
@@ -32,6 +34,11 @@ template <int Dim> Index rebalance(Scene<Dim>& scene, double threshold);
 /// order of their parents' global ids. Collective; returns the number of new points over all
 /// ranks.
 template <int Dim> Index name_new_points(Scene<Dim>& scene, Index first_new);
+
+/// Runs `work` with every point, and all it carries, on rank 0 (in the serial order: the scene
+/// there is the serial run's), then sends the points back to their owners, bit for bit.
+/// Collective; `work` runs on every rank (the others hold no point meanwhile).
+template <int Dim> void with_points_on_root(Scene<Dim>& scene, const std::function<void()>& work);
 
 /// Every rank's points, in global id order, on rank 0 (empty elsewhere), with their material's
 /// plastic strain when `plastic_strain` is given (one value per point on return). Collective.
