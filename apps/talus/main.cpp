@@ -259,6 +259,9 @@ int main(int argc, char** argv) {
   verify->add_option("--case", verify_options.only, "Run only this case (repeatable)");
   verify->add_option("--threads", verify_options.threads, "OpenMP threads")
       ->check(CLI::NonNegativeNumber);
+  verify->add_option("--mpi", verify_options.mpi,
+                     "Run the selected cases that distribute (explicit) under mpirun -np N")
+      ->check(CLI::PositiveNumber);
 
   auto* bench = app.add_subcommand(
       "bench", "Work-precision sweep of a verification case: writes bench.csv and bench.png");
@@ -320,6 +323,12 @@ int main(int argc, char** argv) {
   }
 
   try {
+    // Under mpirun the ranks share a run's points: only the commands that step an explicit case
+    // run there (talus fos runs implicit analyses, which do not distribute yet).
+    if (ranks.distributed() && !*run && !*verify)
+      throw InputError({"mpirun", 0, 0, ""},
+                       fmt::format("talus {} does not run under mpirun; start it without",
+                                   app.get_subcommands().front()->get_name()));
     if (*run) {
       RunOptions options;
       options.out_dir = resume_dir.empty() ? out_dir : resume_dir;

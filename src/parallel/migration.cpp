@@ -5,8 +5,11 @@
 //              then the probes' indices)
 #include "talus/parallel/migration.hpp"
 
+#include "talus/core/parallel.hpp"
+
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -93,13 +96,13 @@ public:
         throw std::logic_error("a material's history does not match the points");
       width_.push_back(n ? values / n : 0);
     }
-    loads_of_.assign(n, {});
-    for (std::size_t k = 0; k < scene.surface_loads.size(); ++k)
-      loads_of_[static_cast<std::size_t>(scene.surface_loads[k].particle)].push_back(k);
-    probes_of_.assign(n, {});
-    for (std::size_t k = 0; k < scene.probe_particles.size(); ++k)
-      if (scene.probe_particles[k] >= 0)
-        probes_of_[static_cast<std::size_t>(scene.probe_particles[k])].push_back(k);
+    // The tractions by point (keep_points leaves them in point order; a scene as built may
+    // list them otherwise).
+    load_order_.resize(scene.surface_loads.size());
+    std::iota(load_order_.begin(), load_order_.end(), std::size_t{0});
+    std::stable_sort(load_order_.begin(), load_order_.end(), [&](std::size_t a, std::size_t b) {
+      return scene.surface_loads[a].particle < scene.surface_loads[b].particle;
+    });
   }
 
   /// The header of a message from this rank.
@@ -116,16 +119,26 @@ public:
     for (std::size_t m = 0; m < width_.size(); ++m)
       for (std::size_t i = 0; i < width_[m]; ++i)
         put(out, history_[m][p * width_[m] + i]);
-    put(out, static_cast<std::uint32_t>(loads_of_[p].size()));
-    for (const std::size_t k : loads_of_[p]) {
-      const SurfaceLoad<Dim>& l = scene_.surface_loads[k];
+    const auto& loads = scene_.surface_loads;
+    const auto [first, last] =
+        std::equal_range(load_order_.begin(), load_order_.end(), static_cast<Index>(p),
+                         [&](const auto& a, const auto& b) {
+                           return particle_of(loads, a) < particle_of(loads, b);
+                         });
+    put(out, static_cast<std::uint32_t>(last - first));
+    for (auto k = first; k != last; ++k) {
+      const SurfaceLoad<Dim>& l = loads[*k];
       put(out, l.offset);
       put(out, l.force);
       put(out, static_cast<std::uint8_t>(l.constant));
     }
-    put(out, static_cast<std::uint32_t>(probes_of_[p].size()));
-    for (const std::size_t k : probes_of_[p])
-      put(out, static_cast<std::uint32_t>(k));
+    std::vector<std::uint32_t> probes; // a handful in a scene: a scan
+    for (std::size_t k = 0; k < scene_.probe_particles.size(); ++k)
+      if (scene_.probe_particles[k] == static_cast<Index>(p))
+        probes.push_back(static_cast<std::uint32_t>(k));
+    put(out, static_cast<std::uint32_t>(probes.size()));
+    for (const std::uint32_t k : probes)
+      put(out, k);
   }
 
   std::vector<std::vector<double>>& history() { return history_; }
@@ -135,7 +148,13 @@ private:
   Scene<Dim>& scene_;
   std::vector<std::vector<double>> history_; ///< per material, as Material::history()
   std::vector<std::size_t> width_;
-  std::vector<std::vector<std::size_t>> loads_of_, probes_of_;
+  std::vector<std::size_t> load_order_; ///< indices of the tractions, by point
+
+  // equal_range compares load indices with a point index: the point of either.
+  static Index particle_of(const std::vector<SurfaceLoad<Dim>>& loads, std::size_t k) {
+    return loads[k].particle;
+  }
+  static Index particle_of(const std::vector<SurfaceLoad<Dim>>&, Index p) { return p; }
 };
 
 /// Appends the points of one message to the scene's arrays (and their history rows to
@@ -195,12 +214,18 @@ void keep_points(Scene<Dim>& scene, const std::vector<char>& keep,
                  std::vector<std::vector<double>>& history, const std::vector<std::size_t>& width) {
   Particles<Dim>& P = scene.particles;
   const auto n = static_cast<std::size_t>(P.size());
-  std::vector<std::size_t> order;
+  // The rank's own points ascend already; the received ones are sorted, then merged in.
+  std::vector<std::size_t> own, received, order;
   for (std::size_t p = 0; p < n; ++p)
-    if (p >= keep.size() || keep[p])
-      order.push_back(p);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return P.global_id[a] < P.global_id[b]; });
+    if (p >= keep.size())
+      received.push_back(p);
+    else if (keep[p])
+      own.push_back(p);
+  const auto by_id = [&](std::size_t a, std::size_t b) { return P.global_id[a] < P.global_id[b]; };
+  std::sort(received.begin(), received.end(), by_id);
+  order.reserve(own.size() + received.size());
+  std::merge(own.begin(), own.end(), received.begin(), received.end(), std::back_inserter(order),
+             by_id);
   P.for_each_field([&](const char*, auto& a, const auto&) {
     std::decay_t<decltype(a)> kept(order.size());
     for (std::size_t i = 0; i < order.size(); ++i)
@@ -274,11 +299,11 @@ template <int Dim> MigrationCount migrate_points(Scene<Dim>& scene) {
   Particles<Dim>& P = scene.particles;
   const auto n = static_cast<std::size_t>(P.size());
   std::vector<int> owner(n);
-  bool leaving = false;
-  for (std::size_t p = 0; p < n; ++p) {
-    owner[p] = dec.owner(P.x[p]);
-    leaving = leaving || owner[p] != comm.rank();
-  }
+  parallel_for(P.size(), [&](Index p) {
+    owner[static_cast<std::size_t>(p)] = dec.owner(P.x[static_cast<std::size_t>(p)]);
+  });
+  const bool leaving =
+      std::any_of(owner.begin(), owner.end(), [&](int r) { return r != comm.rank(); });
   if (!comm.any(leaving))
     return count;
   PointPacker<Dim> packer(scene);
@@ -313,8 +338,7 @@ template <int Dim> Index rebalance(Scene<Dim>& scene, double threshold) {
   return migrate_points(scene).sent;
 }
 
-template <int Dim>
-void with_points_on_root(Scene<Dim>& scene, const std::function<void()>& work) {
+template <int Dim> void with_points_on_root(Scene<Dim>& scene, const std::function<void()>& work) {
   const auto owners = scene.decomposition;
   scene.decomposition = std::make_shared<Decomposition<Dim>>(
       Decomposition<Dim>::all_on(owners->comm(), scene.grid, 0));

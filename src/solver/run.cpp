@@ -512,6 +512,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     summary.stages = result.stages;
   if (ranks.root())
     write_summary_json(result.out_dir / "summary.json", summary);
+  // Every rank may read the results next (verification): they are complete when it returns.
+  ranks.barrier();
   return result;
 }
 

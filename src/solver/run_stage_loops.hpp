@@ -158,7 +158,10 @@ void move_points_to_owners(Scene<Dim>& scene, Solver& solver, RunResult& result)
   if (!scene.distributed())
     return;
   const Communicator& comm = scene.decomposition->comm();
+  const auto moving = std::chrono::steady_clock::now();
   Index sent = migrate_points(scene).sent;
+  result.extra["seconds_migration"] +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - moving).count();
   const auto start = std::chrono::steady_clock::now();
   if (const Index rebalanced = rebalance(scene, kRebalanceAbove); rebalanced >= 0) {
     sent += rebalanced;

@@ -160,6 +160,7 @@ std::vector<Check> collision_checks(const VerificationContext& ctx,
 VerificationCase colliding_discs() {
   VerificationCase vc;
   vc.name = "colliding_discs";
+  vc.distributable = true;
   vc.description = "Two neo-Hookean discs (rho0 = 20, E = 1e5, nu = 0.3) collide and rebound: "
                    "mirror symmetry about x + y = 1 and energy loss over the collision (GIMP, "
                    "MUSL, FLIP); momentum conservation on a lopsided pair with P(0) != 0.";
@@ -179,6 +180,7 @@ VerificationCase colliding_discs() {
 VerificationCase colliding_discs_shapes() {
   VerificationCase vc;
   vc.name = "colliding_discs_shapes";
+  vc.distributable = true;
   vc.scene = "colliding_discs";
   vc.description = "The colliding discs with cpGIMP, CPDI and quadratic and cubic B-splines: "
                    "momentum, mirror symmetry and energy loss as with uGIMP.";
@@ -202,6 +204,7 @@ VerificationCase colliding_discs_shapes() {
 VerificationCase colliding_spheres() {
   VerificationCase vc;
   vc.name = "colliding_spheres";
+  vc.distributable = true;
   vc.description = "3D: two neo-Hookean spheres collide and rebound: mirror symmetry about the "
                    "plane x + y = 1, energy loss over the collision, momentum conservation on a "
                    "lopsided pair.";

@@ -93,6 +93,7 @@ std::vector<Check> translation_checks(const VerificationContext& ctx) {
 VerificationCase rigid_translation() {
   VerificationCase vc;
   vc.name = "rigid_translation";
+  vc.distributable = true;
   vc.description = "A linear-elastic block and a neo-Hookean disc translate uniformly across "
                    "20 cells: no spurious stress, exact rigid displacement.";
   vc.tiers = {"fast", "full"};
@@ -105,6 +106,7 @@ VerificationCase rigid_translation() {
 VerificationCase rigid_translation_3d() {
   VerificationCase vc;
   vc.name = "rigid_translation_3d";
+  vc.distributable = true;
   vc.description = "3D: a linear-elastic box and a neo-Hookean sphere translate uniformly "
                    "across 20 cells: no spurious stress, exact rigid displacement.";
   vc.tiers = {"fast", "full"};
@@ -115,6 +117,7 @@ VerificationCase rigid_translation_3d() {
 VerificationCase rigid_rotation() {
   VerificationCase vc;
   vc.name = "rigid_rotation";
+  vc.distributable = true;
   vc.description = "A neo-Hookean disc released spinning at 1 rad/s turns half a revolution: "
                    "stress stays at the physical centrifugal level (APIC), far below E (APIC and "
                    "FLIP).";
@@ -152,6 +155,7 @@ VerificationCase rigid_rotation() {
 VerificationCase rigid_rotation_3d() {
   VerificationCase vc;
   vc.name = "rigid_rotation_3d";
+  vc.distributable = true;
   vc.description = "A neo-Hookean sphere spinning about a tilted axis (APIC, 3D) turns half a "
                    "revolution: stress at the centrifugal level, points where the rotation "
                    "takes them.";

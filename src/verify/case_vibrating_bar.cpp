@@ -33,6 +33,7 @@ using references::kBarYoung;
 VerificationCase vibrating_bar() {
   VerificationCase vc;
   vc.name = "vibrating_bar";
+  vc.distributable = true;
   vc.description = "Fixed-free elastic bar in its first axial mode: centre-of-mass velocity "
                    "against v0/(b1 L) cos(w1 t) over two periods, under grid refinement (GIMP, "
                    "MUSL, FLIP).";
@@ -160,6 +161,7 @@ double largest_plane_strain_difference(const CsvTable& bar_3d, const CsvTable& p
 VerificationCase vibrating_bar_3d() {
   VerificationCase vc;
   vc.name = "vibrating_bar_3d";
+  vc.distributable = true;
   vc.description = "The vibrating bar in 3D: the same first mode as in plane strain, step for "
                    "step to round-off, and second-order convergence to v0/(b1 L) cos(w1 t).";
   vc.tiers = {"fast", "full"};

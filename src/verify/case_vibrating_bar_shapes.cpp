@@ -62,6 +62,7 @@ double stress_error(const ResultsReader& results) {
 VerificationCase vibrating_bar_shapes() {
   VerificationCase vc;
   vc.name = "vibrating_bar_shapes";
+  vc.distributable = true;
   vc.scene = "vibrating_bar";
   vc.description = "The fixed-free bar in its first axial mode for every shape (explicit MUSL): "
                    "RMS point stress against rho c v0 cos(b1 X) sin(w1 t) under refinement.";

@@ -1,6 +1,8 @@
 // Child processes of the benchmarks (see child_process.hpp).
 #include "child_process.hpp"
 
+#include "talus/verify/verification.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -102,6 +104,23 @@ std::string csv_number(double v) {
 
 std::string cell(double v, const char* format) {
   return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : "-";
+}
+
+std::vector<std::string> refined_run_args(const RefinedScene& scene,
+                                          const std::filesystem::path& dir, int threads) {
+  return {"run",
+          (verification_dir() / (scene.scene + ".yaml")).string(),
+          "--out",
+          dir.string(),
+          "--force",
+          "--threads",
+          std::to_string(threads),
+          "--set",
+          fmt::format("grid.cell_size={:g}", scene.cell_size),
+          "--set",
+          fmt::format("time.end_time={:g}", scene.end_time),
+          "--set",
+          "output.every_time=1"};
 }
 
 } // namespace talus::bench_detail

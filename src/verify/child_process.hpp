@@ -36,6 +36,19 @@ double median(std::vector<double> v);
 /// The number j[key] (summary.json, fos.json), NaN when it is missing or not a number.
 double json_number(const nlohmann::json& j, const std::string& key);
 
+/// A verification scene refined for a speed measurement (explicit_throughput, strong_scaling).
+struct RefinedScene {
+  std::string scene; ///< a verification case file's stem
+  int dimension = 2;
+  double cell_size = 0;
+  double end_time = 0;
+};
+
+/// `run <scene> --out dir --force --threads N` at the scene's cell size and end time, with
+/// frames only at the ends.
+std::vector<std::string> refined_run_args(const RefinedScene& scene,
+                                          const std::filesystem::path& dir, int threads);
+
 /// `format` of v, or "-" when v is not finite (table cells).
 std::string cell(double v, const char* format);
 

@@ -4,11 +4,17 @@
 #include "report.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/parallel/communicator.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace talus {
 
@@ -71,18 +77,84 @@ CaseSpec load_verification_case(const VerificationContext& ctx,
 
 using verify_report::CaseOutcome;
 
+namespace {
+
+bool selected(const VerificationCase& vc, const VerifyOptions& options) {
+  if (!options.only.empty())
+    return std::find(options.only.begin(), options.only.end(), vc.name) != options.only.end();
+  return std::find(vc.tiers.begin(), vc.tiers.end(), options.tier) != vc.tiers.end();
+}
+
+/// The selected cases that run distributed; a case named by --case that does not is refused.
+std::vector<std::string> distributable_selection(const VerifyOptions& options) {
+  std::vector<std::string> names, refused;
+  for (const auto& vc : verification_cases())
+    if (selected(vc, options))
+      (vc.distributable ? names : refused).push_back(vc.name);
+  if (!options.only.empty() && !refused.empty())
+    throw InputError(
+        {"--case", 0, 0, ""},
+        fmt::format("{} do(es) not run distributed (implicit analyses)", fmt::join(refused, ", ")));
+  if (names.empty())
+    throw InputError({"--mpi", 0, 0, ""}, "no selected verification case runs distributed");
+  return names;
+}
+
+/// `talus verify --mpi N`: this command again, under `mpirun -np N`, for the selected cases that
+/// distribute; its exit code.
+int verify_under_mpirun(const VerifyOptions& options) {
+  const std::vector<std::string> names = distributable_selection(options);
+  const char* from_env = std::getenv("TALUS_MPIEXEC");
+  const std::string mpirun = from_env ? from_env : "/usr/bin/mpirun";
+  std::vector<std::string> args = {mpirun,
+                                   "-np",
+                                   std::to_string(options.mpi),
+                                   "--oversubscribe",
+                                   fs::read_symlink("/proc/self/exe").string(),
+                                   "verify",
+                                   "--tier",
+                                   options.tier,
+                                   "--out",
+                                   options.out_dir.string()};
+  if (options.threads > 0)
+    args.insert(args.end(), {"--threads", std::to_string(options.threads)});
+  for (const auto& name : names)
+    args.insert(args.end(), {"--case", name});
+  if (::geteuid() == 0) { // OpenMPI refuses root unless told
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+  std::vector<char*> argv;
+  for (auto& a : args)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  fmt::print(stderr, "verify: {} case(s) under {} -np {}\n", names.size(), mpirun, options.mpi);
+  pid_t pid = 0;
+  if (::posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0)
+    throw std::runtime_error("cannot start " + mpirun);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : kExitOther;
+}
+
+} // namespace
+
 int run_verification(const VerifyOptions& options) {
+  const Communicator& ranks = Communicator::world();
+  if (options.mpi > 0 && !ranks.distributed())
+    return verify_under_mpirun(options);
+  // Under mpirun every rank runs every case (the runs are collective) and reads the results
+  // rank 0 wrote; rank 0 alone prepares directories, reports and prints.
+  if (ranks.distributed())
+    distributable_selection(options);
   const fs::path out = options.out_dir;
-  fs::create_directories(out);
+  if (ranks.root())
+    fs::create_directories(out);
   std::vector<CaseOutcome> outcomes;
   bool crashed = false;
   for (const auto& vc : verification_cases()) {
-    const bool in_tier =
-        std::find(vc.tiers.begin(), vc.tiers.end(), options.tier) != vc.tiers.end();
-    const bool selected = options.only.empty() ? in_tier
-                                               : std::find(options.only.begin(), options.only.end(),
-                                                           vc.name) != options.only.end();
-    if (!selected)
+    if (!selected(vc, options) || (ranks.distributed() && !vc.distributable))
       continue;
     VerificationContext ctx;
     ctx.case_file = verification_dir() / ((vc.scene.empty() ? vc.name : vc.scene) + ".yaml");
@@ -90,9 +162,12 @@ int run_verification(const VerifyOptions& options) {
     ctx.tier = options.tier;
     ctx.threads = options.threads;
     // The verification directory is the suite's own scratch space: each case starts clean.
-    fs::remove_all(ctx.out_dir);
-    fs::create_directories(ctx.out_dir);
-    fmt::print(stderr, "verify: {} ...\n", vc.name);
+    if (ranks.root()) {
+      fs::remove_all(ctx.out_dir);
+      fs::create_directories(ctx.out_dir);
+      fmt::print(stderr, "verify: {} ...\n", vc.name);
+    }
+    ranks.barrier();
     const auto t0 = std::chrono::steady_clock::now();
     CaseOutcome outcome{&vc, {}, 0.0};
     try {
@@ -108,9 +183,11 @@ int run_verification(const VerifyOptions& options) {
   }
   if (outcomes.empty())
     throw InputError({"--case", 0, 0, ""}, "no verification case matches the selection");
+  const verify_report::Tally t = verify_report::tally(outcomes);
+  if (!ranks.root())
+    return crashed ? kExitOther : (t.all_held() ? kExitOk : kExitNumerical);
   verify_report::print_table(outcomes);
   verify_report::write_reports(out, options.tier, outcomes);
-  const verify_report::Tally t = verify_report::tally(outcomes);
   fmt::print("\n{}: {} — report: {}\n", t.all_held() ? "PASSED" : "FAILED",
              verify_report::summary_line(t), (out / "report.md").string());
   if (crashed)

@@ -35,12 +35,7 @@ using namespace bench_detail;
 
 namespace {
 
-struct ScalingConfig {
-  std::string scene; ///< a verification case file's stem
-  int dimension = 2;
-  double cell_size = 0;
-  double end_time = 0;
-};
+using ScalingConfig = RefinedScene;
 
 /// One way of running a configuration.
 struct Mode {
@@ -58,6 +53,7 @@ struct ScalingRow {
   double wall_seconds = NAN;     ///< median, whole process (mpirun included)
   double cpu_seconds = NAN;      ///< median, all ranks
   double communication_share = NAN;
+  double peak_rss_mb = NAN; ///< the largest process's (a rank's; mpirun's is smaller)
   double migrated = NAN;
   double difference = NAN; ///< final positions against the serial run, relative to the extent
   std::string status = "ok";
@@ -88,7 +84,7 @@ std::vector<ScalingRow> run_config(const ScalingConfig& c, const BenchOptions& o
                                    const fs::path& runs_dir) {
   std::vector<ScalingRow> rows;
   std::vector<std::vector<double>> stepping(kModes.size()), wall(kModes.size()), cpu(kModes.size()),
-      share(kModes.size());
+      share(kModes.size()), rss(kModes.size());
   for (const Mode& m : kModes) {
     ScalingRow row;
     row.config = c;
@@ -101,19 +97,7 @@ std::vector<ScalingRow> run_config(const ScalingConfig& c, const BenchOptions& o
       for (std::size_t i = 0; i < kModes.size(); ++i) {
         const Mode& m = kModes[i];
         const fs::path dir = runs_dir / fmt::format("{}_np{}_t{}", tag, m.ranks, m.threads);
-        std::vector<std::string> args = {"run",
-                                         (verification_dir() / (c.scene + ".yaml")).string(),
-                                         "--out",
-                                         dir.string(),
-                                         "--force",
-                                         "--threads",
-                                         std::to_string(m.threads),
-                                         "--set",
-                                         fmt::format("grid.cell_size={:g}", c.cell_size),
-                                         "--set",
-                                         fmt::format("time.end_time={:g}", c.end_time),
-                                         "--set",
-                                         "output.every_time=1"};
+        std::vector<std::string> args = refined_run_args(c, dir, m.threads);
         fs::create_directories(dir);
         fs::remove(dir / "summary.json");
         ChildResult r;
@@ -134,6 +118,7 @@ std::vector<ScalingRow> run_config(const ScalingConfig& c, const BenchOptions& o
         const double seconds = json_number(summary, "seconds_stepping");
         stepping[i].push_back(seconds);
         wall[i].push_back(r.wall_seconds);
+        rss[i].push_back(r.max_rss_mb);
         cpu[i].push_back(r.cpu_seconds);
         if (m.ranks > 1) {
           share[i].push_back(json_number(summary, "seconds_communication_max") / seconds);
@@ -146,6 +131,7 @@ std::vector<ScalingRow> run_config(const ScalingConfig& c, const BenchOptions& o
       row.stepping_seconds = median(stepping[i]);
       row.wall_seconds = median(wall[i]);
       row.cpu_seconds = median(cpu[i]);
+      row.peak_rss_mb = median(rss[i]);
       if (!share[i].empty())
         row.communication_share = median(share[i]);
       row.difference = final_difference(
@@ -165,7 +151,8 @@ void write_csv(const fs::path& file, const std::vector<ScalingRow>& rows) {
   if (!out)
     throw std::runtime_error("cannot create " + file.string());
   out << "scene,dimension,cell_size,mode,ranks,threads,particles,steps,stepping_seconds,"
-         "speed_up,efficiency,wall_seconds,cpu_seconds,communication_share,points_migrated,"
+         "speed_up,efficiency,wall_seconds,cpu_seconds,peak_rss_mb,communication_share,points_"
+         "migrated,"
          "difference_to_serial,status,message\n";
   double serial = NAN;
   for (const auto& r : rows) {
@@ -173,13 +160,13 @@ void write_csv(const fs::path& file, const std::vector<ScalingRow>& rows) {
       serial = r.stepping_seconds;
     const double speed_up = serial / r.stepping_seconds;
     const int cores = r.mode.ranks * r.mode.threads;
-    out << fmt::format("{},{},{:g},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n",
-                       r.config.scene, r.config.dimension, r.config.cell_size, r.mode.name,
-                       r.mode.ranks, r.mode.threads, csv_number(r.particles), csv_number(r.steps),
-                       csv_number(r.stepping_seconds), csv_number(speed_up),
-                       csv_number(speed_up / cores), csv_number(r.wall_seconds),
-                       csv_number(r.cpu_seconds), csv_number(r.communication_share),
-                       csv_number(r.migrated), csv_number(r.difference), r.status, r.message);
+    out << fmt::format(
+        "{},{},{:g},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n", r.config.scene,
+        r.config.dimension, r.config.cell_size, r.mode.name, r.mode.ranks, r.mode.threads,
+        csv_number(r.particles), csv_number(r.steps), csv_number(r.stepping_seconds),
+        csv_number(speed_up), csv_number(speed_up / cores), csv_number(r.wall_seconds),
+        csv_number(r.cpu_seconds), csv_number(r.peak_rss_mb), csv_number(r.communication_share),
+        csv_number(r.migrated), csv_number(r.difference), r.status, r.message);
   }
 }
 
@@ -187,25 +174,25 @@ void print_table(const std::vector<ScalingRow>& rows, int repeats) {
   fmt::print("strong scaling ({} repeats, alternating; time = the stepping loop's, median; "
              "speed-up and efficiency against serial on one thread)\n",
              repeats);
-  fmt::print(
-      "{:<18} {:>3} {:>8} {:<28} {:>9} {:>6} {:>9} {:>8} {:>6} {:>8} {:>8} {:>6} {:>9}  {}\n",
-      "scene", "dim", "h", "mode", "particles", "steps", "step s", "speed-up", "eff.", "wall s",
-      "CPU s", "comm", "vs serial", "status");
-  fmt::print("{}\n", std::string(140, '-'));
+  fmt::print("{:<18} {:>3} {:>8} {:<28} {:>9} {:>6} {:>9} {:>8} {:>6} {:>8} {:>8} {:>7} {:>6} "
+             "{:>9}  {}\n",
+             "scene", "dim", "h", "mode", "particles", "steps", "step s", "speed-up", "eff.",
+             "wall s", "CPU s", "RSS MB", "comm", "vs serial", "status");
+  fmt::print("{}\n", std::string(148, '-'));
   double serial = NAN;
   for (const auto& r : rows) {
     if (r.mode.ranks == 1 && r.mode.threads == 1)
       serial = r.stepping_seconds;
     const double speed_up = serial / r.stepping_seconds;
-    fmt::print("{:<18} {:>3} {:>8g} {:<28} {:>9} {:>6} {:>9} {:>8} {:>6} {:>8} {:>8} {:>6} {:>9}  "
-               "{}{}\n",
-               r.config.scene, r.config.dimension, r.config.cell_size, r.mode.name,
-               cell(r.particles, "{:.0f}"), cell(r.steps, "{:.0f}"),
-               cell(r.stepping_seconds, "{:.3f}"), cell(speed_up, "{:.2f}"),
-               cell(speed_up / (r.mode.ranks * r.mode.threads), "{:.2f}"),
-               cell(r.wall_seconds, "{:.2f}"), cell(r.cpu_seconds, "{:.2f}"),
-               cell(100 * r.communication_share, "{:.0f}%"), cell(r.difference, "{:.1e}"), r.status,
-               r.message.empty() ? "" : " (" + r.message + ")");
+    fmt::print(
+        "{:<18} {:>3} {:>8g} {:<28} {:>9} {:>6} {:>9} {:>8} {:>6} {:>8} {:>8} {:>7} {:>6} "
+        "{:>9}  {}{}\n",
+        r.config.scene, r.config.dimension, r.config.cell_size, r.mode.name,
+        cell(r.particles, "{:.0f}"), cell(r.steps, "{:.0f}"), cell(r.stepping_seconds, "{:.3f}"),
+        cell(speed_up, "{:.2f}"), cell(speed_up / (r.mode.ranks * r.mode.threads), "{:.2f}"),
+        cell(r.wall_seconds, "{:.2f}"), cell(r.cpu_seconds, "{:.2f}"),
+        cell(r.peak_rss_mb, "{:.0f}"), cell(100 * r.communication_share, "{:.0f}%"),
+        cell(r.difference, "{:.1e}"), r.status, r.message.empty() ? "" : " (" + r.message + ")");
   }
 }
 

@@ -34,11 +34,7 @@ using namespace bench_detail;
 
 namespace {
 
-struct ThroughputConfig {
-  std::string scene; ///< a verification case file's stem
-  int dimension = 2;
-  double cell_size = 0;
-  double end_time = 0;
+struct ThroughputConfig : RefinedScene {
   int threads = 1;
 };
 
@@ -66,9 +62,9 @@ std::vector<ThroughputConfig> throughput_sweep(bool quick) {
     discs.pop_back();
   for (const int threads : {1, 2}) {
     for (const double h : discs)
-      configs.push_back({"colliding_discs", 2, h, 0.02, threads});
+      configs.push_back({{"colliding_discs", 2, h, 0.02}, threads});
     for (const double h : {0.05, 0.025})
-      configs.push_back({"colliding_spheres", 3, h, 0.01, threads});
+      configs.push_back({{"colliding_spheres", 3, h, 0.01}, threads});
   }
   return configs;
 }
@@ -89,19 +85,7 @@ ThroughputRow run_throughput(const ThroughputConfig& c, const BenchOptions& opti
   const fs::path dir = runs_dir / fmt::format("{}_h{:g}_t{}", c.scene, c.cell_size, c.threads);
   fs::create_directories(dir);
   const fs::path log = dir / "talus.log";
-  const std::vector<std::string> args = {"run",
-                                         (verification_dir() / (c.scene + ".yaml")).string(),
-                                         "--out",
-                                         dir.string(),
-                                         "--force",
-                                         "--threads",
-                                         std::to_string(c.threads),
-                                         "--set",
-                                         fmt::format("grid.cell_size={:g}", c.cell_size),
-                                         "--set",
-                                         fmt::format("time.end_time={:g}", c.end_time),
-                                         "--set",
-                                         "output.every_time=1"};
+  const std::vector<std::string> args = refined_run_args(c, dir, c.threads);
   std::vector<double> rates, ratios;
   double peak = 0;
   try {

@@ -22,6 +22,13 @@ namespace {
 
 const fs::path kCases = fs::path(TALUS_SOURCE_DIR) / "cases";
 
+/// `args` followed by `more`.
+std::vector<std::string> appended(std::vector<std::string> args,
+                                  const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
 nlohmann::json summary_of(const fs::path& dir) {
   std::ifstream in(dir / "summary.json");
   return nlohmann::json::parse(in);
@@ -54,14 +61,9 @@ protected:
       args.push_back("--set");
       args.push_back(s);
     }
-    auto with_out = [&](const char* dir) {
-      auto a = args;
-      a.insert(a.end(), {"--out", dir});
-      return a;
-    };
-    const Outcome serial = talus(with_out("serial"));
+    const Outcome serial = talus(appended(args, {"--out", "serial"}));
     ASSERT_EQ(serial.exit_code, 0) << serial.describe();
-    const Outcome distributed = mpirun(ranks, with_out("distributed"));
+    const Outcome distributed = mpirun(ranks, appended(args, {"--out", "distributed"}));
     ASSERT_EQ(distributed.exit_code, 0) << distributed.describe();
     const auto a = summary_of(work() / "serial"), b = summary_of(work() / "distributed");
     EXPECT_EQ(a.at("steps"), b.at("steps"));
@@ -128,6 +130,43 @@ TEST_F(Mpi, SplittingColumnEqualsTheSerialRun) {
   EXPECT_GT(summary.at("repartitions").get<double>(), 0);
 }
 
+// Two explicit stages: a column held at twice its strength, then weakened to 1/1.5 of it until it
+// comes to rest. Every rank sets the stage's strength, and the stage watch judges rest from the
+// kinetic energy of all ranks' points: the stages end at the same steps, for the same reasons.
+// Mohr-Coulomb over 6765 steps: measured 7.2e-9 (a return map); 3e-8 is 4x that.
+TEST_F(Mpi, StagesEndAtTheSameStep) {
+  write_file(work() / "staged.yaml", R"(name: staged_column
+grid: {origin: [0, 0], extent: [4, 2.5], cell_size: 0.1}
+materials:
+  - {name: soil, model: mohr_coulomb, density: 1000, youngs_modulus: 2.0e7, poisson_ratio: 0.42,
+     cohesion: 1.0e3, friction_angle: 42, dilation_angle: 0}
+bodies:
+  - {name: column, material: soil, shape: rectangle, min: [0, 0], max: [1, 2],
+     particles_per_cell: 2, initial_stress: {type: geostatic}}
+gravity: [0, -9.81]
+boundaries: {x_min: roller, y_min: fixed}
+stages:
+  - {name: strong, analysis: explicit, strength_factor: 0.5, time: {end_time: 0.2, cfl: 0.5}}
+  - {name: weakened, analysis: explicit, strength_factor: 1.5, time: {end_time: 1.5, cfl: 0.5},
+     at_rest: {kinetic_energy_ratio: 0.05, duration: 0.1}}
+output: {every_time: 0.05}
+probes:
+  - {name: top, point: [0.5, 2]}
+solver: {shape: gimp, scheme: musl}
+)");
+  run_both(work() / "staged.yaml", {}, 2);
+  expect_agree(3e-8);
+  const auto a = summary_of(work() / "serial").at("stages");
+  const auto b = summary_of(work() / "distributed").at("stages");
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(a[k].at("steps"), b[k].at("steps")) << "stage " << k;
+    EXPECT_EQ(a[k].at("end"), b[k].at("end")) << "stage " << k;
+  }
+  EXPECT_NE(b[1].at("end").get<std::string>().find("at rest"), std::string::npos);
+}
+
 // Three ranks for two discs: the partition may leave a rank with few or no points, and the
 // discs cross two cuts.
 TEST_F(Mpi, ThreeRanksEqualTheSerialRun) {
@@ -163,14 +202,9 @@ TEST_F(Mpi, AFailingRankStopsEveryRank) {
                                          "--set",     "solver.shape=linear",
                                          "--set",     "time.cfl=0.9",
                                          "--threads", "1"};
-  auto with_out = [&](const char* dir) {
-    auto a = args;
-    a.insert(a.end(), {"--out", dir});
-    return a;
-  };
-  const Outcome serial = talus(with_out("serial"));
+  const Outcome serial = talus(appended(args, {"--out", "serial"}));
   ASSERT_EQ(serial.exit_code, 3) << serial.describe();
-  const Outcome distributed = mpirun(2, with_out("distributed"));
+  const Outcome distributed = mpirun(2, appended(args, {"--out", "distributed"}));
   ASSERT_EQ(distributed.exit_code, 3) << distributed.describe();
   const std::string expected = serial.err.substr(serial.err.find("state guard"));
   EXPECT_NE(distributed.err.find(expected.substr(0, expected.find('\n'))), std::string::npos)
@@ -190,7 +224,8 @@ TEST_F(Mpi, AFailingRankStopsEveryRank) {
 /// The processes `pid` started (mpirun's ranks).
 std::vector<pid_t> children_of(pid_t pid) {
   std::vector<pid_t> out;
-  for (const auto& task : fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "task")) {
+  for (const auto& task :
+       fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "task")) {
     std::ifstream in(task.path() / "children");
     for (pid_t child = 0; in >> child;)
       out.push_back(child);
@@ -205,19 +240,15 @@ std::vector<pid_t> children_of(pid_t pid) {
 TEST_F(Mpi, AnInterruptedRunResumesOnAnyNumberOfRanks) {
   const std::string case_file = (kCases / "colliding_discs.yaml").string();
   // Twice as fine as the case (6.5k points, 1000 steps, about a second): time to interrupt.
-  const std::vector<std::string> common = {"--threads", "1", "--set",
-                                           "output.checkpoint.every_steps=50", "--set",
-                                           "grid.cell_size=0.0125"};
-  auto args = [&](std::vector<std::string> head) {
-    head.insert(head.end(), common.begin(), common.end());
-    return head;
-  };
+  const std::vector<std::string> common = {"--threads", "1",
+                                           "--set",     "output.checkpoint.every_steps=50",
+                                           "--set",     "grid.cell_size=0.0125"};
+  auto args = [&](const std::vector<std::string>& head) { return appended(head, common); };
   const Outcome serial = talus(args({"run", case_file, "--out", "serial"}));
   ASSERT_EQ(serial.exit_code, 0) << serial.describe();
 
-  std::vector<std::string> launch = {"-np", "2", "--oversubscribe", TALUS_BINARY};
-  for (const auto& a : args({"run", case_file, "--out", "killed"}))
-    launch.push_back(a);
+  const std::vector<std::string> launch = appended({"-np", "2", "--oversubscribe", TALUS_BINARY},
+                                                   args({"run", case_file, "--out", "killed"}));
   Child child(launch, work(), root_, TALUS_MPIEXEC);
   ASSERT_TRUE(child.started());
   const fs::path series = work() / "killed" / "timeseries.csv";
@@ -249,6 +280,13 @@ TEST_F(Mpi, RefusesWhatItCannotDistribute) {
   const Outcome r = mpirun(2, {"run", (kCases / "cantilever.yaml").string(), "--out", "refused"});
   EXPECT_EQ(r.exit_code, 2) << r.describe();
   EXPECT_NE(r.err.find("does not run distributed yet"), std::string::npos) << r.describe();
+  EXPECT_FALSE(fs::exists(work() / "refused"));
+  // The commands that do not step an explicit case are refused under mpirun as a whole.
+  const Outcome fos = mpirun(2, {"fos", (kCases / "slope_griffiths_lane.yaml").string(), "--out",
+                                 "refused"});
+  EXPECT_EQ(fos.exit_code, 2) << fos.describe();
+  EXPECT_NE(fos.err.find("talus fos does not run under mpirun"), std::string::npos)
+      << fos.describe();
   EXPECT_FALSE(fs::exists(work() / "refused"));
 }
 

@@ -58,7 +58,11 @@ inline void expect_same_frames(const std::filesystem::path& reference,
   std::map<std::string, double> scale, diff;
   for (Index f = 0; f < a.frame_count(); ++f) {
     EXPECT_EQ(a.frame_step(f), b.frame_step(f));
-    EXPECT_EQ(a.frame_time(f), b.frame_time(f));
+    // A run whose steps follow the points' speeds (CFL) ends a stage at a time that moves with
+    // the points' round-off: the time within the same relative bound (exactly when 0).
+    EXPECT_LE(std::abs(a.frame_time(f) - b.frame_time(f)),
+              eq.relative * std::abs(a.frame_time(f)))
+        << "frame " << f << " time";
     ASSERT_EQ(a.frame_fields(f), b.frame_fields(f));
     for (const std::string& field : a.frame_fields(f)) {
       Index ra = 0, ca = 0, rb = 0, cb = 0;

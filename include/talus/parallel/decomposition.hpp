@@ -50,9 +50,14 @@ public:
     std::array<double, 3> centre{};
     const double h = grid_.cell_size();
     for (int d = 0; d < Dim; ++d) {
-      const double c = std::floor((x[d] - grid_.origin()[d]) / h);
-      const double i = std::clamp(c, 0.0, static_cast<double>(grid_.cells(d) - 1));
-      centre[static_cast<std::size_t>(d)] = grid_.origin()[d] + (i + 0.5) * h;
+      // Cells clamped into the grid (and a position that is not a number to cell 0); inside,
+      // truncation is the floor, and cheaper than std::floor without SSE4.1.
+      const double s = (x[d] - grid_.origin()[d]) / h;
+      const Index last = grid_.cells(d) - 1;
+      const Index i = !(s >= 1.0)                      ? 0
+                      : s >= static_cast<double>(last) ? last
+                                                       : static_cast<Index>(s);
+      centre[static_cast<std::size_t>(d)] = grid_.origin()[d] + (static_cast<double>(i) + 0.5) * h;
     }
     // Boxes meet on cut planes; a centre on a cut goes to the lower rank. The boxes tile all
     // space (partition), so the nearest box only answers a partition Zoltan2 left with gaps.

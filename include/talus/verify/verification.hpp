@@ -74,6 +74,9 @@ struct VerificationCase {
   std::vector<std::string> tiers; ///< tiers that include the case
   std::string scene;              ///< verification/<scene>.yaml; empty: the case's name
   std::function<std::vector<Check>(const VerificationContext&)> run;
+  /// Its runs are explicit analyses only, which run distributed: `talus verify --mpi N` runs
+  /// it under mpirun with the same checks.
+  bool distributable = false;
 };
 
 /// Every registered case, in report order.
@@ -92,6 +95,9 @@ struct VerifyOptions {
   std::vector<std::string> only; ///< run just these cases (empty: all of the tier)
   int threads = 0;
   bool force = false;
+  /// > 0: run the selected cases that distribute under `mpirun -np mpi` (the others are not
+  /// run; selecting one by --case is refused).
+  int mpi = 0;
 };
 
 /// Runs the tier, prints the table, writes report.md and report.json; returns the exit code
