@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace talus {
 
@@ -28,6 +29,18 @@ int count_of(std::size_t n) {
 }
 
 } // namespace
+
+std::string mpirun_for_children() {
+  const char* from_env = std::getenv("TALUS_MPIEXEC");
+  const std::string mpirun = from_env ? from_env : TALUS_MPIEXEC;
+  if (::access(mpirun.c_str(), X_OK) != 0)
+    throw std::runtime_error(mpirun + " not found (set TALUS_MPIEXEC)");
+  if (::geteuid() == 0) {
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+  return mpirun;
+}
 
 void Communicator::init_if_launched(int& argc, char**& argv) {
   if (!launched_by_mpirun())

@@ -104,8 +104,7 @@ std::vector<std::string> distributable_selection(const VerifyOptions& options) {
 /// distribute; its exit code.
 int verify_under_mpirun(const VerifyOptions& options) {
   const std::vector<std::string> names = distributable_selection(options);
-  const char* from_env = std::getenv("TALUS_MPIEXEC");
-  const std::string mpirun = from_env ? from_env : "/usr/bin/mpirun";
+  const std::string mpirun = mpirun_for_children();
   std::vector<std::string> args = {mpirun,
                                    "-np",
                                    std::to_string(options.mpi),
@@ -120,10 +119,6 @@ int verify_under_mpirun(const VerifyOptions& options) {
     args.insert(args.end(), {"--threads", std::to_string(options.threads)});
   for (const auto& name : names)
     args.insert(args.end(), {"--case", name});
-  if (::geteuid() == 0) { // OpenMPI refuses root unless told
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  }
   std::vector<char*> argv;
   for (auto& a : args)
     argv.push_back(a.data());

@@ -19,14 +19,13 @@
 #include "talus/core/errors.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
+#include "talus/parallel/communicator.hpp"
 #include "talus/verify/bench.hpp"
 #include "talus/verify/verification.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <fmt/format.h>
 #include <fstream>
-#include <unistd.h>
 
 namespace talus {
 
@@ -200,14 +199,7 @@ void print_table(const std::vector<ScalingRow>& rows, int repeats) {
 
 int run_scaling_bench(const BenchOptions& options) {
   const fs::path exe = fs::read_symlink("/proc/self/exe");
-  const char* from_env = std::getenv("TALUS_MPIEXEC");
-  const fs::path mpirun = from_env ? fs::path(from_env) : fs::path("/usr/bin/mpirun");
-  if (!fs::exists(mpirun))
-    throw std::runtime_error(fmt::format("{} not found (set TALUS_MPIEXEC)", mpirun.string()));
-  if (::geteuid() == 0) { // OpenMPI refuses root unless told
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  }
+  const fs::path mpirun = mpirun_for_children();
   const fs::path out =
       options.out_dir.empty() ? fs::path("results") / "bench" / "strong_scaling" : options.out_dir;
   const fs::path runs = out / "runs";

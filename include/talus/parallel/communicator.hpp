@@ -16,6 +16,11 @@
 
 namespace talus {
 
+/// The mpirun to start distributed children with (`talus verify --mpi`, the scaling bench):
+/// TALUS_MPIEXEC if set, else the one this build found. Throws std::runtime_error if it is
+/// missing. Lets OpenMPI run as root (it refuses unless told), as CI does.
+std::string mpirun_for_children();
+
 class Communicator {
 public:
   /// MPI_Init when the process was started by mpirun (its environment says so); call once from
