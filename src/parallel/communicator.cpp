@@ -32,7 +32,7 @@ int count_of(std::size_t n) {
 
 std::string mpirun_for_children() {
   const char* from_env = std::getenv("TALUS_MPIEXEC");
-  const std::string mpirun = from_env ? from_env : TALUS_MPIEXEC;
+  std::string mpirun = from_env ? from_env : TALUS_MPIEXEC;
   if (::access(mpirun.c_str(), X_OK) != 0)
     throw std::runtime_error(mpirun + " not found (set TALUS_MPIEXEC)");
   if (::geteuid() == 0) {
