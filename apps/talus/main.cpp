@@ -259,8 +259,9 @@ int main(int argc, char** argv) {
   verify->add_option("--case", verify_options.only, "Run only this case (repeatable)");
   verify->add_option("--threads", verify_options.threads, "OpenMP threads")
       ->check(CLI::NonNegativeNumber);
-  verify->add_option("--mpi", verify_options.mpi,
-                     "Run the selected cases that distribute (explicit) under mpirun -np N")
+  verify
+      ->add_option("--mpi", verify_options.mpi,
+                   "Run the selected cases that distribute (explicit) under mpirun -np N")
       ->check(CLI::PositiveNumber);
 
   auto* bench = app.add_subcommand(

@@ -64,6 +64,14 @@ private:
   std::size_t at_ = 0;
 };
 
+/// a <- (a[order[0]], a[order[1]], ...).
+template <class A> void permute(A& a, const std::vector<std::size_t>& order) {
+  A out(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    out[i] = a[order[i]];
+  a.swap(out);
+}
+
 /// Which optional particle blocks are allocated, one bit each in for_each_possible_field order.
 template <int Dim> std::uint32_t optional_mask(const Particles<Dim>& P) {
   std::uint32_t mask = 0;
@@ -226,12 +234,7 @@ void keep_points(Scene<Dim>& scene, const std::vector<char>& keep,
   order.reserve(own.size() + received.size());
   std::merge(own.begin(), own.end(), received.begin(), received.end(), std::back_inserter(order),
              by_id);
-  P.for_each_field([&](const char*, auto& a, const auto&) {
-    std::decay_t<decltype(a)> kept(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i)
-      kept[i] = a[order[i]];
-    a.swap(kept);
-  });
+  P.for_each_field([&](const char*, auto& a, const auto&) { permute(a, order); });
   std::vector<Index> renumbered(n, -1);
   for (std::size_t i = 0; i < order.size(); ++i)
     renumbered[order[i]] = static_cast<Index>(i);
@@ -417,16 +420,10 @@ Particles<Dim> gather_points(const Scene<Dim>& scene, std::vector<double>* plast
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(),
             [&](std::size_t a, std::size_t b) { return all.global_id[a] < all.global_id[b]; });
-  all.for_each_field([&](const char*, auto& a, const auto&) {
-    std::decay_t<decltype(a)> sorted(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i)
-      sorted[i] = a[order[i]];
-    a.swap(sorted);
-  });
+  all.for_each_field([&](const char*, auto& a, const auto&) { permute(a, order); });
   if (plastic_strain) {
-    plastic_strain->resize(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i)
-      (*plastic_strain)[i] = all_strain[order[i]];
+    permute(all_strain, order);
+    plastic_strain->swap(all_strain);
   }
   return all;
 }

@@ -137,10 +137,11 @@ TEST(Migration, PointsArriveWithEverythingTheyCarry) {
     EXPECT_EQ(comm.sum(std::int64_t{scene.probe_particles[k] >= 0 ? 1 : 0}), 1) << "probe " << k;
 }
 
-// Gathered for a frame, the points are the serial scene's, in its order.
+// Gathered for a frame, the points are the serial scene's, in its order. One body, whose
+// lattice the cuts split row by row: the ranks' shares interleave in the serial order.
 TEST(Migration, AGatheredFrameIsTheSerialScene) {
   const auto& comm = Communicator::world();
-  CaseSpec spec = read_case_file(kCases + "colliding_spheres.yaml", {});
+  CaseSpec spec = read_case_file(kCases + "slope_3d.yaml", {});
   const Scene<3> serial = build_scene<3>(spec);
   Scene<3> scene = build_scene<3>(spec);
   distribute_scene(scene, comm);

@@ -83,7 +83,7 @@ protected:
     const auto& kinetic = series.column("kinetic_energy");
     const double momentum =
         std::sqrt(2.0 * mass * *std::max_element(kinetic.begin(), kinetic.end()));
-    Equality eq{relative, {}};
+    Equality eq{relative, {}, true};
     for (const char* axis : {"x", "y", "z"})
       eq.column_scale[std::string("momentum_") + axis] = momentum;
     expect_same_series(work() / "serial", work() / other, eq);
@@ -282,8 +282,8 @@ TEST_F(Mpi, RefusesWhatItCannotDistribute) {
   EXPECT_NE(r.err.find("does not run distributed yet"), std::string::npos) << r.describe();
   EXPECT_FALSE(fs::exists(work() / "refused"));
   // The commands that do not step an explicit case are refused under mpirun as a whole.
-  const Outcome fos = mpirun(2, {"fos", (kCases / "slope_griffiths_lane.yaml").string(), "--out",
-                                 "refused"});
+  const Outcome fos =
+      mpirun(2, {"fos", (kCases / "slope_griffiths_lane.yaml").string(), "--out", "refused"});
   EXPECT_EQ(fos.exit_code, 2) << fos.describe();
   EXPECT_NE(fos.err.find("talus fos does not run under mpirun"), std::string::npos)
       << fos.describe();

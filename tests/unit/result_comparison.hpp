@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace talus::test_support {
 
@@ -22,6 +23,10 @@ struct Equality {
   /// Columns whose own largest magnitude is no scale (a momentum conserved at zero): the
   /// magnitude to use instead.
   std::map<std::string, double> column_scale{};
+  /// Judge each frame's dataset against its largest magnitude over the whole run rather than
+  /// in that frame (a field that starts at zero, like stress, is not judged by its round-off
+  /// in the first frames).
+  bool run_scale = false;
 };
 
 inline void expect_same_series(const std::filesystem::path& reference,
@@ -48,20 +53,23 @@ inline void expect_same_series(const std::filesystem::path& reference,
   }
 }
 
-/// Every dataset of every frame; the scale of a dataset is its largest magnitude over all frames
-/// (a field that starts at zero, like stress, is not judged by its round-off in the first one).
+/// Every dataset of every frame, against its largest magnitude in that frame or, with
+/// Equality::run_scale, over the run.
 inline void expect_same_frames(const std::filesystem::path& reference,
-                               const std::filesystem::path& other, Equality eq) {
+                               const std::filesystem::path& other, const Equality& eq) {
   const talus::ResultsReader a(reference / "run.h5");
   const talus::ResultsReader b(other / "run.h5");
   ASSERT_EQ(a.frame_count(), b.frame_count());
-  std::map<std::string, double> scale, diff;
+  struct Worst {
+    double diff = 0, scale = 0;
+  };
+  std::map<std::string, double> run_scale;
+  std::vector<std::map<std::string, Worst>> frames(static_cast<std::size_t>(a.frame_count()));
   for (Index f = 0; f < a.frame_count(); ++f) {
     EXPECT_EQ(a.frame_step(f), b.frame_step(f));
     // A run whose steps follow the points' speeds (CFL) ends a stage at a time that moves with
     // the points' round-off: the time within the same relative bound (exactly when 0).
-    EXPECT_LE(std::abs(a.frame_time(f) - b.frame_time(f)),
-              eq.relative * std::abs(a.frame_time(f)))
+    EXPECT_LE(std::abs(a.frame_time(f) - b.frame_time(f)), eq.relative * std::abs(a.frame_time(f)))
         << "frame " << f << " time";
     ASSERT_EQ(a.frame_fields(f), b.frame_fields(f));
     for (const std::string& field : a.frame_fields(f)) {
@@ -69,15 +77,20 @@ inline void expect_same_frames(const std::filesystem::path& reference,
       const auto x = a.read(f, field, &ra, &ca);
       const auto y = b.read(f, field, &rb, &cb);
       ASSERT_EQ(x.size(), y.size()) << "frame " << f << " " << field;
+      Worst& w = frames[static_cast<std::size_t>(f)][field];
       for (std::size_t i = 0; i < x.size(); ++i) {
-        scale[field] = std::max(scale[field], std::abs(x[i]));
-        diff[field] = std::max(diff[field], std::abs(x[i] - y[i]));
+        w.scale = std::max(w.scale, std::abs(x[i]));
+        w.diff = std::max(w.diff, std::abs(x[i] - y[i]));
       }
+      run_scale[field] = std::max(run_scale[field], w.scale);
     }
   }
-  for (const auto& [field, d] : diff)
-    EXPECT_LE(d, eq.relative * scale[field])
-        << field << ": largest difference " << d << " of the largest magnitude " << scale[field];
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    for (const auto& [field, w] : frames[f]) {
+      const double scale = eq.run_scale ? run_scale[field] : w.scale;
+      EXPECT_LE(w.diff, eq.relative * scale)
+          << "frame " << f << " " << field << ": largest difference " << w.diff << " of " << scale;
+    }
 }
 
 } // namespace talus::test_support

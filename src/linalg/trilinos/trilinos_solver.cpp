@@ -51,7 +51,6 @@ using import_type = Tpetra::Import<LO, GO, NO>;
 using ifpack_type = Ifpack2::Preconditioner<SC, LO, GO, NO>;
 using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
-
 enum class Precond { MueLu, Ifpack2 };
 
 class TrilinosSolver final : public LinearSolver {
