@@ -128,6 +128,8 @@ int fos_command(const std::string& case_file, const std::vector<std::string>& ov
                 const FosOptions& options) {
   const CaseSpec spec = read_case_file(case_file, overrides);
   const FosRunResult r = run_factor_of_safety(spec, options);
+  if (!Communicator::world().root())
+    return r.exit_code;
   if (r.fos.bracketed)
     fmt::print("{}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]), {} {}, {} Newton "
                "iterations, {:.2f} s ({:.2f} s of CPU) -> {}\n",
@@ -324,9 +326,9 @@ int main(int argc, char** argv) {
   }
 
   try {
-    // Under mpirun the ranks share a run's points: only the commands that step an explicit case
-    // run there (talus fos runs implicit analyses, which do not distribute yet).
-    if (ranks.distributed() && !*run && !*verify)
+    // Under mpirun the ranks share a run's points: only the commands that step a case run
+    // there.
+    if (ranks.distributed() && !*run && !*fos && !*verify)
       throw InputError({"mpirun", 0, 0, ""},
                        fmt::format("talus {} does not run under mpirun; start it without",
                                    app.get_subcommands().front()->get_name()));

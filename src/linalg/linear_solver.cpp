@@ -2,6 +2,7 @@
 // The backends themselves: suitesparse_solvers.cpp (CHOLMOD, UMFPACK, KLU), eigen_solvers.cpp
 // (CG, BiCGSTAB) and, when built with TALUS_HAVE_TRILINOS, trilinos/trilinos_solver.cpp.
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/linalg/distributed_linear_solver.hpp"
 
 #ifdef TALUS_HAVE_TRILINOS
 #include "trilinos/trilinos_solver.hpp"
@@ -78,6 +79,17 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& opti
   }
   throw std::invalid_argument("linear solver '" + to_string(options.kind) +
                               "' is not built into this binary");
+}
+
+std::unique_ptr<DistributedLinearSolver>
+make_distributed_linear_solver(const LinearSolverOptions& options, MPI_Comm comm) {
+#ifdef TALUS_HAVE_TRILINOS
+  return detail::make_distributed_trilinos_solver(options, comm);
+#else
+  (void)comm;
+  throw std::invalid_argument("linear solver '" + to_string(options.kind) +
+                              "' cannot run distributed: this binary was built without Trilinos");
+#endif
 }
 
 LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns) {

@@ -100,6 +100,33 @@ template <int Dim> void NodeHalo<Dim>::sum(std::span<const Field> fields) {
   }
 }
 
+template <int Dim>
+typename NodeHalo<Dim>::NeighbourNodes
+NodeHalo<Dim>::neighbour_nodes(const ActiveNodes<Dim>& nodes, std::span<const double> values,
+                               int width) const {
+  const Decomposition<Dim>& dec = *decomposition_;
+  const std::vector<int>& neighbours = dec.neighbours();
+  const auto w = static_cast<std::size_t>(width);
+  std::vector<std::vector<double>> to(neighbours.size());
+  for (std::size_t k = 0; k < neighbours.size(); ++k)
+    for (Index n = 0; n < nodes.size(); ++n)
+      if (dec.reaches(neighbours[k], nodes.position(n))) {
+        to[k].push_back(std::bit_cast<double>(nodes.lattice_id(n)));
+        const auto first = values.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(n) * w);
+        to[k].insert(to[k].end(), first, first + static_cast<std::ptrdiff_t>(w));
+      }
+  const auto from = dec.comm().exchange(neighbours, to);
+  NeighbourNodes out;
+  for (std::size_t k = 0; k < neighbours.size(); ++k)
+    for (std::size_t i = 0; i + w < from[k].size() + 1; i += w + 1) {
+      out.rank.push_back(neighbours[k]);
+      out.lattice_id.push_back(std::bit_cast<Index>(from[k][i]));
+      out.values.insert(out.values.end(), from[k].begin() + static_cast<std::ptrdiff_t>(i + 1),
+                        from[k].begin() + static_cast<std::ptrdiff_t>(i + 1 + w));
+    }
+  return out;
+}
+
 template class NodeHalo<2>;
 template class NodeHalo<3>;
 

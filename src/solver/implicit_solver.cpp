@@ -7,9 +7,11 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/linalg/distributed_linear_solver.hpp"
 #include "talus/linalg/lattice_assembler.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/shape/shape_functions.hpp"
+#include "talus/solver/energies.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 #include "talus/solver/rigid_body_modes.hpp"
 
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <type_traits>
 
@@ -56,7 +59,12 @@ public:
     // choice, the size of the first step's system decides between direct and iterative.
     const std::string& chosen = scene.spec.solver.linear_solver;
     LinearSolverKind kind;
-    if (chosen.empty()) {
+    if (scene.distributed()) {
+      // Distributed, the tangent only exists as the ranks' shares: Belos solves it, CG where
+      // the tangent is symmetric (the case's direct or iterative choice alike), else GMRES.
+      comm_ = &scene.decomposition->comm();
+      kind = symmetric ? LinearSolverKind::TrilinosCg : LinearSolverKind::TrilinosGmres;
+    } else if (chosen.empty()) {
       step_.map.update(scene.grid, scene.particles);
       kind = automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
     } else if (!parse_linear_solver_kind(chosen, kind)) {
@@ -64,7 +72,13 @@ public:
     }
     LinearSolverOptions options;
     options.kind = kind;
-    linear_ = make_linear_solver(options);
+    if (comm_) {
+      auto distributed = make_distributed_linear_solver(options, comm_->mpi());
+      distributed_ = distributed.get();
+      linear_ = std::move(distributed);
+    } else {
+      linear_ = make_linear_solver(options);
+    }
     const auto np = static_cast<std::size_t>(scene.particles.size());
     trial_F_.assign(np, Mat3::Identity());
     dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
@@ -94,9 +108,9 @@ public:
                                           kRoundOffFloor * round_off_force_ / step_.force_scale);
     options.step_scale = scene_.grid.cell_size();
     options.max_iterations = scene_.spec.solver.max_newton_iterations;
-    Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(step_.dof_count));
+    Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(size()));
     NewtonReport report;
-    if (step_.dof_count == 0) {
+    if (step_.global_dof_count == 0) {
       report.converged = true;
       report.residual_history.push_back(0.0);
     } else {
@@ -132,18 +146,21 @@ public:
     timings_.factorization += report.seconds_factorization;
     timings_.solve += report.seconds_solve;
     if (report.converged) {
-      commit(du, dt);
+      commit(overlap_increment(du), dt);
       ramp_committed_ = ramp_end;
     }
     return report;
   }
 
-  Energies energies() const override { return particle_energies(scene_, dynamic_); }
+  Energies energies() const override {
+    const Energies e = particle_energies(scene_, dynamic_);
+    return comm_ ? summed_over_ranks(e, *comm_) : e;
+  }
   FaceReactions reactions() const override { return reactions_; }
   std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
   std::string linear_solver() const override { return linear_->name(); }
-  Index active_nodes() const override { return step_.map.node_count(); }
-  Index unknowns() const override { return step_.dof_count; }
+  Index active_nodes() const override { return step_.global_node_count; }
+  Index unknowns() const override { return step_.global_dof_count; }
   ImplicitTimings timings() const override { return timings_; }
   Continuation continuation() const override { return {ramp_committed_, line_search_first_}; }
   void continue_from(const Continuation& c) override {
@@ -169,21 +186,34 @@ public:
   }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
-  Index size() const override { return step_.dof_count; }
+  // Serial: every unknown. Distributed: the owned ones (Newton's vectors hold those).
+  Index size() const override { return comm_ ? step_.owned_dof_count : step_.dof_count; }
+  Index global_size() const override { return step_.global_dof_count; }
+  const Communicator* communicator() const override { return comm_; }
 
-  // One share owning every node: local DOF ids are the global ones.
+  // Serial: one share owning every node, local DOF ids the global ones. Distributed: this
+  // rank's points on the unknowns it sees, then the ranks' shares added on the owners.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
-    return assemble_share(whole_, serial_map_, du, &r, nullptr);
+    if (!comm_)
+      return assemble_share(whole_, serial_map_, du, &r, nullptr);
+    Eigen::VectorXd mine;
+    const bool admissible =
+        !comm_->any(!assemble_share(whole_, serial_map_, overlap_increment(du), &mine, nullptr));
+    if (admissible)
+      distributed_->export_add(mine, r);
+    return admissible;
   }
 
-  const SparseMatrix& jacobian(const Eigen::VectorXd& du) override {
+  const SparseMatrix& jacobian(const Eigen::VectorXd& du_owned) override {
+    const Eigen::VectorXd du = overlap_increment(du_owned);
     if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
     // Within a step the connectivity is fixed; a new step keeps the symbolic analysis when its
-    // structure matches the last one built, whichever step or Newton attempt analysed it.
+    // structure matches the last one built, whichever step or Newton attempt analysed it. A
+    // distributed step always analyses anew: its unknowns' global numbering is the step's.
     bool built = false;
     const SparseMatrix& K = share_tangent(whole_, serial_map_, built);
-    if (built && !share_tangents_[0].assembler.same_structure_as_before())
+    if (built && (comm_ || !share_tangents_[0].assembler.same_structure_as_before()))
       ++pattern_generation_;
     return K;
   }
@@ -206,11 +236,22 @@ public:
       f_bar_step_.prepare(scene_.grid, scene_.particles, step_.map.node_count());
     state_valid_ = false;
     ++step_count_;
-    whole_ = {0, 0, scene_.particles.size()};
-    const ParticleShare all[] = {whole_};
-    serial_map_ = dof_map(whole_, node_owners(all));
+    whole_ = {comm_ ? comm_->rank() : 0, 0, scene_.particles.size()};
+    if (comm_) {
+      // This rank's points reach every node of its step (and it assembles the ghost faces its
+      // step holds): its map covers all of them, owned first, so local ids are the step's.
+      std::vector<Index> nodes(at(step_.map.node_count()));
+      std::iota(nodes.begin(), nodes.end(), Index{0});
+      serial_map_ = DofMap(whole_.index, std::move(nodes), Dim, step_.node_dof, step_.node_owner);
+      if (serial_map_.owned_count() != step_.owned_dof_count)
+        throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
+      distributed_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
+    } else {
+      const ParticleShare all[] = {whole_};
+      serial_map_ = dof_map(whole_, node_owners(all));
+    }
     if (serial_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
-      throw std::logic_error("the serial DOF map does not cover every unknown");
+      throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())
       linear_->set_near_null_space(
           rigid_body_modes<Dim, Axisymmetric>(step_.map.nodes(), step_.node_dof, step_.dof_count));
@@ -276,6 +317,22 @@ private:
   }
   Index dof_of(Index node, int a) const { return step_.dof_of(node, a); }
 
+  /// The increment on every unknown this process sees, from Newton's (a distributed run's
+  /// owned unknowns: the ghosts' values come from their owners).
+  Eigen::VectorXd overlap_increment(const Eigen::VectorXd& du) const {
+    if (!comm_)
+      return du;
+    Eigen::VectorXd all;
+    distributed_->import_ghosts(du, all);
+    return all;
+  }
+
+  /// Whether the map's share assembles the ghost-penalty face: the owner of its anchor node
+  /// does; a distributed rank's step holds only the faces it assembles (implicit_step_setup).
+  bool assembles(const DofMap& map, const typename Ghost::Face& face) const {
+    return comm_ || map.owns_node(Ghost::anchor(face));
+  }
+
   /// The local DOF of component a of node n in the share's map; refuses a node outside it.
   static Index local_dof(const DofMap& map, Index n, int a) {
     const Index dof = map.local_dof(n, a);
@@ -294,7 +351,7 @@ private:
   void for_each_ghost_force(const DofMap& map, const Eigen::VectorXd& du, F&& f) const {
     const auto& G = Ghost::face_matrix();
     for (const auto& face : step_.ghost.faces()) {
-      if (!map.owns_node(Ghost::anchor(face)))
+      if (!assembles(map, face))
         continue;
       Eigen::Matrix<double, Ghost::kFaceNodes, Dim> u;
       for (int k = 0; k < Ghost::kFaceNodes; ++k)
@@ -392,7 +449,7 @@ private:
       if (f_bar_)
         f_bar_step_.for_each_cell_nodes(share, step_.map, f);
       for (const auto& face : step_.ghost.faces())
-        if (map.owns_node(Ghost::anchor(face)))
+        if (assembles(map, face))
           f(std::span<const Index>(face.nodes));
     };
     tangent.build(
@@ -466,7 +523,7 @@ private:
           share, step_.map, P, [&](Index q) { return step_gradient(at(q)); }, tangent);
     const auto& G = Ghost::face_matrix();
     for (const auto& face : step_.ghost.faces()) {
-      if (!map.owns_node(Ghost::anchor(face)))
+      if (!assembles(map, face))
         continue;
       const typename Ghost::FaceMatrix K_face = face.stiffness * G;
       for (int a = 0; a < Dim; ++a)
@@ -484,12 +541,17 @@ private:
   // unknowns at zero increment, which the prescribed increment alone produces. Without this the
   // tolerance would be relative to the no-load fallback and ask for digits nobody needs.
   void scale_by_prescribed_motion() {
-    if (step_.dof_count == 0 || std::none_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
-                                             [](double u) { return u != 0; }))
+    bool moving = std::any_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
+                              [](double u) { return u != 0; });
+    if (comm_)
+      moving = comm_->any(moving);
+    if (step_.global_dof_count == 0 || !moving)
       return;
     Eigen::VectorXd r;
-    if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(step_.dof_count)), r))
-      step_.force_scale = std::max(step_.force_scale, r.lpNorm<Eigen::Infinity>());
+    if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(size())), r)) {
+      const double largest = r.size() ? r.lpNorm<Eigen::Infinity>() : 0.0;
+      step_.force_scale = std::max(step_.force_scale, comm_ ? comm_->max(largest) : largest);
+    }
   }
 
   // dF and F of the share's points at the trial increment (local ids of map), and the
@@ -619,6 +681,12 @@ private:
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
     for_each_ghost_force(serial_map_, du,
                          [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
+    // The loads on a node are whole on every rank holding it: its owner subtracts them; the
+    // internal forces are each rank's own, summed over the ranks below.
+    for (Index n = 0; n < step_.map.node_count(); ++n)
+      if (step_.node_owner[at(n)] == step_.rank())
+        for (int a = 0; a < Dim; ++a)
+          internal[at(Dim * n + a)] -= step_.full_external[at(Dim * n + a)];
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
     for (Index n = 0; n < step_.map.node_count(); ++n) {
       const std::int32_t region = step_.node_region[at(n)];
@@ -626,16 +694,32 @@ private:
         continue;
       for (int a = 0; a < Dim; ++a)
         if (is_prescribed(n, a))
-          prescribed_reactions_[at(region)][a] +=
-              internal[at(Dim * n + a)] - step_.full_external[at(Dim * n + a)];
+          prescribed_reactions_[at(region)][a] += internal[at(Dim * n + a)];
     }
     for (auto& r : reactions_)
       r.setZero();
     for (Index n = 0; n < step_.map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
         if (const int face = step_.reaction_face[at(n)][at(a)]; face >= 0 && !is_prescribed(n, a))
-          reactions_[static_cast<std::size_t>(face)][a] +=
-              internal[at(Dim * n + a)] - step_.full_external[at(Dim * n + a)];
+          reactions_[static_cast<std::size_t>(face)][a] += internal[at(Dim * n + a)];
+    if (comm_)
+      sum_reactions_over_ranks();
+  }
+
+  void sum_reactions_over_ranks() {
+    std::vector<double> flat;
+    for (const auto& r : reactions_)
+      flat.insert(flat.end(), r.data(), r.data() + r.size());
+    for (const Vec3& r : prescribed_reactions_)
+      flat.insert(flat.end(), r.data(), r.data() + 3);
+    const std::vector<double> total = comm_->sum(flat);
+    std::size_t k = 0;
+    for (auto& r : reactions_)
+      for (Eigen::Index c = 0; c < r.size(); ++c)
+        r[c] = total[k++];
+    for (Vec3& r : prescribed_reactions_)
+      for (int c = 0; c < 3; ++c)
+        r[c] = total[k++];
   }
 
   bool is_prescribed(Index n, int a) const {
@@ -646,6 +730,8 @@ private:
   Scene<Dim>& scene_;
   ImplicitStepSetup<Dim, Shape, Axisymmetric> step_; ///< connectivity, unknowns and loads
   std::unique_ptr<LinearSolver> linear_;
+  const Communicator* comm_ = nullptr;              ///< a distributed run's ranks
+  DistributedLinearSolver* distributed_ = nullptr;  ///< linear_, in a distributed run
   std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
   std::vector<M> trial_dF_;
   std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)

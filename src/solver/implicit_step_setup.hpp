@@ -7,6 +7,7 @@
 // (implicit_solver.cpp assembles and solves on it).
 #include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/parallel/node_halo.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
 #include <Eigen/Core>
@@ -14,6 +15,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -42,7 +46,17 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   /// receives its reaction (FaceConditions::reaction_faces).
   std::vector<std::int32_t> node_region;
   std::vector<std::array<std::int8_t, Dim>> reaction_face;
-  std::vector<Index> node_dof;       ///< per (node, component) at Dim n + a: DOF, -1 for none
+  /// A distributed run: the nodes this rank shares with the others (empty in a serial run).
+  std::optional<NodeHalo<Dim>> halo;
+  std::vector<int> node_owner; ///< per node: the rank that owns it (its lowest holder; 0 serial)
+  /// Per (node, component) at Dim n + a: the unknown, -1 for none. The unknowns of the nodes
+  /// this rank owns come first (owned_dof_count of them), then those of the nodes it shares
+  /// with a lower rank; each node's components are consecutive.
+  std::vector<Index> node_dof;
+  Index owned_dof_count = 0;
+  std::vector<Index> dof_gid;   ///< per unknown: its global id (a distributed run; else empty)
+  Index global_dof_count = 0;   ///< the unknowns of every rank (owned ones counted once)
+  Index global_node_count = 0;  ///< the active nodes of every rank (each counted once)
   std::vector<double> prescribed_du; ///< per (node, component): this step's increment
   Index dof_count = 0;
   Eigen::VectorXd external;          ///< per unknown: the load
@@ -54,61 +68,152 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   Index dof_of(Index node, int a) const { return node_dof[at(Dim * node + a)]; }
 
   /// Sets everything up for the scene's points where they stand; young[m] is material m's
-  /// Young's modulus (the ghost penalty's scale).
+  /// Young's modulus (the ghost penalty's scale). Collective in a distributed run.
   void prepare(Scene<Dim>& scene, const Loading& l, const std::vector<double>& young) {
     const auto& P = scene.particles;
-    map.update(scene.grid, P);
-    const auto nn = at(map.node_count());
-    node_mass.assign(nn, 0.0);
-    double heaviest = 0;
-    for (Index n = 0; n < map.node_count(); ++n) {
-      double m = 0;
-      map.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
-      node_mass[at(n)] = m;
-      heaviest = std::max(heaviest, m);
-    }
+    update_map(scene);
+    double heaviest = sum_node_masses(scene);
+    if (halo)
+      heaviest = scene.decomposition->comm().max(heaviest);
     if (!scene.spec.prescribed.empty())
       place_prescribed_boxes<Dim>(scene, l.ramp_committed);
+    if (halo)
+      prepare_ghost_penalty_distributed(scene, heaviest, young);
+    else
+      prepare_ghost_penalty(scene, heaviest, young);
+    const auto nn = at(map.node_count());
     node_region.resize(nn);
     reaction_face.resize(nn);
     for (Index n = 0; n < map.node_count(); ++n) {
       node_region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
       reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
     }
+    node_owner.assign(nn, 0);
+    if (halo)
+      for (Index n = 0; n < map.node_count(); ++n)
+        node_owner[at(n)] = halo->owner(n);
     number_unknowns(scene, l, heaviest);
-    prepare_ghost_penalty(scene, heaviest, young);
     if (l.dynamic)
       project_inertia(P);
     gather_loads(scene, l);
   }
 
+  /// A distributed run: this rank's rank (the owner of the nodes it owns); 0 in a serial run.
+  int rank() const { return rank_; }
+
 private:
   static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
 
   // One unknown per component of a node with mass that neither a face nor a prescribed box
-  // holds; a prescribed component takes this step's share of its displacement.
+  // holds; a prescribed component takes this step's share of its displacement. The owned
+  // nodes are numbered first; a distributed run then learns every unknown's global id.
   void number_unknowns(const Scene<Dim>& scene, const Loading& l, double heaviest) {
     const auto nn = at(map.node_count());
     node_dof.assign(Dim * nn, -1);
     prescribed_du.assign(Dim * nn, 0.0);
     dof_count = 0;
-    for (Index n = 0; n < map.node_count(); ++n) {
-      const std::int32_t region = node_region[at(n)];
-      const std::uint8_t mask = scene.face_conditions.held(map.nodes().ijk(n));
-      for (int a = 0; a < Dim; ++a) {
-        // A prescribed component wins over a face condition on the same node.
-        if (region >= 0) {
-          const auto& value = scene.spec.prescribed[at(region)].displacement[at(a)];
-          if (value) {
-            prescribed_du[at(Dim * n + a)] = (l.ramp_end - l.ramp_committed) * *value;
-            continue;
-          }
-        }
-        if (node_mass[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
+    for (const bool owned : {true, false})
+      for (Index n = 0; n < map.node_count(); ++n) {
+        if ((node_owner[at(n)] == rank_) != owned)
           continue;
-        node_dof[at(Dim * n + a)] = dof_count++;
+        const std::int32_t region = node_region[at(n)];
+        const std::uint8_t mask = scene.face_conditions.held(map.nodes().ijk(n));
+        for (int a = 0; a < Dim; ++a) {
+          // A prescribed component wins over a face condition on the same node.
+          if (region >= 0) {
+            const auto& value = scene.spec.prescribed[at(region)].displacement[at(a)];
+            if (value) {
+              prescribed_du[at(Dim * n + a)] = (l.ramp_end - l.ramp_committed) * *value;
+              continue;
+            }
+          }
+          if (node_mass[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
+            continue;
+          node_dof[at(Dim * n + a)] = dof_count++;
+        }
+        if (owned)
+          owned_dof_count = dof_count;
       }
+    owned_dof_count = std::min(owned_dof_count, dof_count);
+    global_dof_count = owned_dof_count;
+    global_node_count = map.node_count();
+    if (halo)
+      number_globally(scene.decomposition->comm());
+  }
+
+  // Global ids: each rank's owned unknowns in order after those of the lower ranks; a shared
+  // node's ids reach the other ranks holding it by the halo sum (its owner adds id + 1, the
+  // others 0).
+  void number_globally(const Communicator& comm) {
+    const auto counts = comm.all_gather(owned_dof_count);
+    Index offset = 0;
+    global_dof_count = 0;
+    for (int r = 0; r < comm.size(); ++r) {
+      if (r < comm.rank())
+        offset += counts[at(r)];
+      global_dof_count += counts[at(r)];
     }
+    Index owned_nodes = 0;
+    for (Index n = 0; n < map.node_count(); ++n)
+      owned_nodes += node_owner[at(n)] == rank_;
+    global_node_count = comm.sum(std::int64_t{owned_nodes});
+    std::vector<double> id_plus_one(node_dof.size(), 0.0);
+    for (Index n = 0; n < map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a)
+        if (const Index dof = dof_of(n, a); dof >= 0 && dof < owned_dof_count)
+          id_plus_one[at(Dim * n + a)] = static_cast<double>(offset + dof + 1);
+    const typename NodeHalo<Dim>::Field field{id_plus_one.data(), Dim};
+    halo->sum({&field, 1});
+    dof_gid.assign(at(dof_count), -1);
+    for (Index n = 0; n < map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a)
+        if (const Index dof = dof_of(n, a); dof >= 0)
+          dof_gid[at(dof)] = static_cast<Index>(id_plus_one[at(Dim * n + a)]) - 1;
+    if (std::any_of(dof_gid.begin(), dof_gid.end(), [](Index g) { return g < 0; }))
+      throw std::logic_error("a shared node's unknown has no global id from its owner");
+  }
+
+  // The map of the step's points; in a distributed run a point that left the grid on any rank
+  // stops every rank with its message, and the halo connects the nodes the ranks share.
+  void update_map(const Scene<Dim>& scene) {
+    std::optional<std::string> failure;
+    try {
+      map.update(scene.grid, scene.particles);
+    } catch (const NumericalError& e) {
+      if (!scene.distributed())
+        throw;
+      failure = e.what();
+    }
+    if (!scene.distributed()) {
+      halo.reset();
+      return;
+    }
+    const Communicator& comm = scene.decomposition->comm();
+    if (const auto first = comm.first_message(failure))
+      throw NumericalError(*first);
+    rank_ = comm.rank();
+    if (!halo)
+      halo.emplace();
+    halo->connect(*scene.decomposition, map.nodes());
+  }
+
+  // The nodes' masses (summed over the ranks that share a node); returns the heaviest here.
+  double sum_node_masses(const Scene<Dim>& scene) {
+    const auto& P = scene.particles;
+    node_mass.assign(at(map.node_count()), 0.0);
+    double heaviest = 0;
+    for (Index n = 0; n < map.node_count(); ++n) {
+      double m = 0;
+      map.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
+      node_mass[at(n)] = m;
+    }
+    if (halo) {
+      const typename NodeHalo<Dim>::Field field{node_mass.data(), 1};
+      halo->sum({&field, 1});
+    }
+    for (const double m : node_mass)
+      heaviest = std::max(heaviest, m);
+    return heaviest;
   }
 
   // The faces the ghost penalty stabilises at this step's configuration.
@@ -119,73 +224,176 @@ private:
       return;
     const auto nn = at(map.node_count());
     node_active_.assign(nn, 0);
-    node_modulus_.assign(nn, 0.0);
-    for (Index n = 0; n < map.node_count(); ++n) {
+    for (Index n = 0; n < map.node_count(); ++n)
       node_active_[at(n)] = node_mass[at(n)] >= kImplicitTinyNodeMassFraction * heaviest;
+    node_moduli(scene, young);
+    ghost.build(map.nodes(), node_active_, node_modulus_, gamma, mirror_faces(scene));
+    if constexpr (Axisymmetric)
+      ghost.weight_by_radius(map.nodes());
+  }
+
+  // A distributed run: whether a face is stabilised depends on the nodes up to two cells around
+  // it, which may belong to other ranks. The faces are found on a view of the grid, this rank's
+  // nodes and the neighbours' within its reach; each face is assembled by the owner of its
+  // anchor node, which adds the face's nodes that no point of its own reaches to its nodes
+  // (they carry no mass of its own; the halo brings their mass and unknowns' ids).
+  void prepare_ghost_penalty_distributed(const Scene<Dim>& scene, double heaviest,
+                                         const std::vector<double>& young) {
+    const double gamma = scene.spec.solver.ghost_penalty;
+    if (gamma <= 0.0)
+      return;
+    node_moduli(scene, young);
+    const auto nn = at(map.node_count());
+    std::vector<double> mine(2 * nn);
+    for (std::size_t n = 0; n < nn; ++n) {
+      mine[2 * n] = node_mass[n];
+      mine[2 * n + 1] = node_modulus_[n];
+    }
+    const auto theirs = halo->neighbour_nodes(map.nodes(), mine, 2);
+    // The view: every node this rank holds or a neighbour sent, with its (whole) mass, the
+    // stiffest modulus any holder saw, and its lowest holder.
+    std::vector<Index> ids(nn);
+    for (Index n = 0; n < map.node_count(); ++n)
+      ids[at(n)] = map.nodes().lattice_id(n);
+    ids.insert(ids.end(), theirs.lattice_id.begin(), theirs.lattice_id.end());
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    ActiveNodes<Dim> view;
+    view.assign(scene.grid, ids);
+    std::vector<double> mass(ids.size(), 0.0), modulus(ids.size(), 0.0);
+    std::vector<int> lowest(ids.size(), std::numeric_limits<int>::max());
+    for (Index n = 0; n < map.node_count(); ++n) {
+      const auto v = at(view.find_lattice_id(map.nodes().lattice_id(n)));
+      mass[v] = node_mass[at(n)];
+      modulus[v] = node_modulus_[at(n)];
+      lowest[v] = halo->owner(n);
+    }
+    for (std::size_t i = 0; i < theirs.rank.size(); ++i) {
+      const auto v = at(view.find_lattice_id(theirs.lattice_id[i]));
+      if (map.nodes().find_lattice_id(theirs.lattice_id[i]) < 0) {
+        mass[v] = theirs.values[2 * i];
+        lowest[v] = std::min(lowest[v], theirs.rank[i]);
+      }
+      modulus[v] = std::max(modulus[v], theirs.values[2 * i + 1]);
+    }
+    std::vector<char> active(ids.size());
+    for (std::size_t v = 0; v < ids.size(); ++v)
+      active[v] = mass[v] >= kImplicitTinyNodeMassFraction * heaviest;
+    ghost.build(view, active, modulus, gamma, mirror_faces(scene));
+    using Ghost = GhostPenalty<Dim>;
+    const auto mine_to_assemble = [&](const typename Ghost::Face& f) {
+      return lowest[at(Ghost::anchor(f))] == rank_;
+    };
+    std::vector<Index> extra;
+    for (const auto& face : ghost.faces())
+      if (mine_to_assemble(face))
+        for (const Index v : face.nodes)
+          if (map.nodes().find_lattice_id(view.lattice_id(v)) < 0)
+            extra.push_back(view.lattice_id(v));
+    std::sort(extra.begin(), extra.end());
+    extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+    // Every rank reconnects (collective), whether it added nodes or not.
+    const bool added = scene.decomposition->comm().any(!extra.empty());
+    if (added) {
+      if (!extra.empty())
+        map.add_nodes(std::move(extra));
+      halo->connect(*scene.decomposition, map.nodes());
+      sum_node_masses(scene);
+    }
+    ghost.select(mine_to_assemble,
+                 [&](Index v) { return map.nodes().find_lattice_id(view.lattice_id(v)); });
+    if constexpr (Axisymmetric)
+      ghost.weight_by_radius(map.nodes());
+  }
+
+  // node_modulus_: per node, the stiffest material among the points that reach it here.
+  void node_moduli(const Scene<Dim>& scene, const std::vector<double>& young) {
+    node_modulus_.assign(at(map.node_count()), 0.0);
+    for (Index n = 0; n < map.node_count(); ++n)
       map.for_each_particle_of(n, [&](Index p, double, const V&) {
         const double E = young[at(scene.particles.material[at(p)])];
         node_modulus_[at(n)] = std::max(node_modulus_[at(n)], E);
       });
-    }
-    std::array<bool, 2 * Dim> mirror_faces{};
+  }
+
+  // The grid faces that are symmetry planes for the ghost penalty's band test.
+  static std::array<bool, 2 * Dim> mirror_faces(const Scene<Dim>& scene) {
+    std::array<bool, 2 * Dim> mirror{};
     for (int f = 0; f < 2 * Dim; ++f)
-      mirror_faces[at(f)] = scene.spec.boundaries[f] == FaceCondition::Roller;
+      mirror[at(f)] = scene.spec.boundaries[f] == FaceCondition::Roller;
     if constexpr (Axisymmetric) // the axis is a symmetry line whatever x_min's condition
-      mirror_faces[0] = mirror_faces[0] || scene.grid.origin()[0] == 0.0;
-    ghost.build(map.nodes(), node_active_, node_modulus_, gamma, mirror_faces);
-    if constexpr (Axisymmetric)
-      ghost.weight_by_radius(map.nodes());
+      mirror[0] = mirror[0] || scene.grid.origin()[0] == 0.0;
+    return mirror;
   }
 
   // Lumped mass and the mass-weighted projections of the particles' velocity and acceleration,
   // per unknown.
   void project_inertia(const Particles<Dim>& P) {
-    dof_mass.assign(at(dof_count), 0.0);
-    grid_v.assign(at(dof_count), 0.0);
-    grid_a.assign(at(dof_count), 0.0);
+    const auto nn = at(map.node_count());
+    std::vector<double> momenta(2 * Dim * nn, 0.0); // per node: m v, then m a
     for (Index n = 0; n < map.node_count(); ++n) {
-      V mv = V::Zero(), ma = V::Zero();
+      Eigen::Map<V> mv(momenta.data() + 2 * Dim * at(n)), ma(momenta.data() + 2 * Dim * at(n) + Dim);
       map.for_each_particle_of(n, [&](Index p, double w, const V&) {
         mv += w * P.mass[at(p)] * P.v[at(p)];
         ma += w * P.mass[at(p)] * P.acceleration[at(p)];
       });
+    }
+    if (halo) {
+      const typename NodeHalo<Dim>::Field field{momenta.data(), 2 * Dim};
+      halo->sum({&field, 1});
+    }
+    dof_mass.assign(at(dof_count), 0.0);
+    grid_v.assign(at(dof_count), 0.0);
+    grid_a.assign(at(dof_count), 0.0);
+    for (Index n = 0; n < map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a) {
         const Index dof = dof_of(n, a);
         if (dof < 0)
           continue;
         dof_mass[at(dof)] = node_mass[at(n)];
-        grid_v[at(dof)] = mv[a] / node_mass[at(n)];
-        grid_a[at(dof)] = ma[a] / node_mass[at(n)];
+        grid_v[at(dof)] = momenta[2 * Dim * at(n) + at(a)] / node_mass[at(n)];
+        grid_a[at(dof)] = momenta[2 * Dim * at(n) + Dim + at(a)] / node_mass[at(n)];
       }
-    }
   }
 
-  // Point loads, gravity and tractions at the step's end, and the force scale: the largest
-  // load on a point, or with inertia m (|v| / dt + |a|), or without any load the force of a
-  // cell strained by 1e-6.
+  // Point loads, gravity and tractions at the step's end (summed over the ranks sharing a
+  // node), and the force scale: the largest load on a point, or with inertia m (|v| / dt +
+  // |a|), or without any load the force of a cell strained by 1e-6.
   void gather_loads(const Scene<Dim>& scene, const Loading& l) {
     const auto& P = scene.particles;
-    external.setZero(static_cast<Eigen::Index>(dof_count));
     full_external.assign(Dim * at(map.node_count()), 0.0);
     const V g = head<Dim>(scene.spec.gravity);
     force_scale = 0;
+    auto add = [&](Index n, const V& f) {
+      for (int a = 0; a < Dim; ++a)
+        full_external[at(Dim * n + a)] += f[a];
+    };
     for (Index p = 0; p < P.size(); ++p) {
       const V f = l.lambda_end * P.external_force[at(p)] +
                   (l.gravity_ramped ? l.lambda_end : 1.0) * P.mass[at(p)] * g;
       force_scale = std::max(force_scale, f.template lpNorm<Eigen::Infinity>());
-      map.for_each_node_of(p, [&](Index n, double w, const V&) { add_external(n, w * f); });
+      map.for_each_node_of(p, [&](Index n, double w, const V&) { add(n, w * f); });
     }
     for (const SurfaceLoad<Dim>& load : scene.surface_loads) {
       const V f = (load.constant ? 1.0 : l.lambda_end) * load.force;
       force_scale = std::max(force_scale, f.template lpNorm<Eigen::Infinity>());
       for_each_surface_load_node<Dim>(map.nodes(), P, load, map.stencil(load.particle).start,
-                                      Shape::kWidth,
-                                      [&](Index n, double w) { add_external(n, w * f); });
+                                      Shape::kWidth, [&](Index n, double w) { add(n, w * f); });
     }
     if (l.dynamic)
       for (Index p = 0; p < P.size(); ++p)
         force_scale = std::max(
             force_scale, P.mass[at(p)] * (P.v[at(p)].norm() / l.dt + P.acceleration[at(p)].norm()));
+    if (halo) {
+      const typename NodeHalo<Dim>::Field field{full_external.data(), Dim};
+      halo->sum({&field, 1});
+      force_scale = scene.decomposition->comm().max(force_scale);
+    }
+    external.setZero(static_cast<Eigen::Index>(dof_count));
+    for (Index n = 0; n < map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a)
+        if (const Index dof = dof_of(n, a); dof >= 0)
+          external[dof] += full_external[at(Dim * n + a)];
     if (force_scale == 0) {
       double modulus = 0;
       for (const auto& m : scene.materials)
@@ -194,16 +402,9 @@ private:
     }
   }
 
-  void add_external(Index n, const V& f) {
-    for (int a = 0; a < Dim; ++a) {
-      full_external[at(Dim * n + a)] += f[a];
-      if (const Index dof = dof_of(n, a); dof >= 0)
-        external[dof] += f[a];
-    }
-  }
-
   std::vector<char> node_active_;    ///< per node: carries mass this step (ghost penalty)
   std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)
+  int rank_ = 0;
 };
 
 } // namespace talus

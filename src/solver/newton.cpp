@@ -6,6 +6,7 @@
 #include <exception>
 #include <fmt/format.h>
 #include <kinsol/kinsol.h>
+#include <nvector/nvector_parallel.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
@@ -15,8 +16,11 @@ namespace talus {
 
 namespace {
 
+// This process's entries (all of them, or a distributed run's owned ones).
 Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
-  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+  const sunindextype n = N_VGetVectorID(v) == SUNDIALS_NVEC_PARALLEL ? N_VGetLocalLength_Parallel(v)
+                                                                      : N_VGetLength(v);
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(n)};
 }
 
 // Everything the C callbacks need, reached through KINSOL's user data and the content pointer
@@ -51,8 +55,7 @@ int residual_callback(N_Vector u, N_Vector f, void* data) {
 int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, N_Vector) {
   auto& d = *static_cast<Driver*>(data);
   try {
-    d.report.residual_history.push_back(view(fu).lpNorm<Eigen::Infinity>() /
-                                        d.options.residual_scale);
+    d.report.residual_history.push_back(N_VMaxNorm(fu) / d.options.residual_scale); // all ranks
     d.jacobian = &d.system.jacobian(view(u));
     return 0;
   } catch (...) {
@@ -137,12 +140,20 @@ struct KinsolSession {
   SUNMatrix J = nullptr;
   void* kinsol = nullptr;
 
-  KinsolSession(sunindextype n, Driver& d) {
-    if (SUNContext_Create(nullptr, &context) < 0)
+  KinsolSession(const NonlinearSystem& system, Driver& d) {
+    const Communicator* comm = system.communicator();
+    MPI_Comm mpi = comm ? comm->mpi() : MPI_COMM_NULL;
+    if (SUNContext_Create(comm ? &mpi : nullptr, &context) < 0)
       throw std::runtime_error("SUNContext_Create failed");
-    u = N_VNew_Serial(n, context);
-    u_scale = N_VNew_Serial(n, context);
-    f_scale = N_VNew_Serial(n, context);
+    const auto n = static_cast<sunindextype>(system.size());
+    auto make = [&] {
+      return comm ? N_VNew_Parallel(mpi, n, static_cast<sunindextype>(system.global_size()),
+                                    context)
+                  : N_VNew_Serial(n, context);
+    };
+    u = make();
+    u_scale = make();
+    f_scale = make();
     ls = SUNLinSolNewEmpty(context);
     J = SUNMatNewEmpty(context);
     kinsol = KINCreate(context);
@@ -188,7 +199,7 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
   if (x.size() != n)
     throw std::invalid_argument("solve_newton: initial guess has the wrong size");
   Driver d{system, linear_solver, options, {}, nullptr, nullptr, {}, {}};
-  KinsolSession k(n, d);
+  KinsolSession k(system, d);
   view(k.u) = x;
   N_VConst(1.0 / options.step_scale, k.u_scale);
   N_VConst(1.0 / options.residual_scale, k.f_scale);

@@ -111,23 +111,6 @@ void prepare_output_directory(const fs::path& dir, bool force) {
   claim_output_directory(dir, force, kResultFiles);
 }
 
-namespace {
-
-/// What a distributed run cannot do yet, refused before anything is written (exit 2).
-void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& options) {
-  auto refuse = [](const std::string& what) {
-    throw InputError({"mpirun", 0, 0, ""},
-                     fmt::format("{} does not run distributed yet; run it without mpirun", what));
-  };
-  for (const StageSpec& stage : stages_of(spec))
-    if (stage.analysis != AnalysisType::Explicit)
-      refuse(fmt::format("an implicit analysis ('{}')", analysis_name(stage.analysis)));
-  if (!options.dump_tangent.empty())
-    refuse("--dump-tangent");
-}
-
-/// Runs `work` on rank 0 alone; an InputError there stops every rank with its message.
-/// Collective in a distributed run.
 void on_root(const Communicator& ranks, const std::function<void()>& work) {
   std::optional<std::string> failure;
   if (ranks.root()) {
@@ -143,6 +126,26 @@ void on_root(const Communicator& ranks, const std::function<void()>& work) {
   }
   if (const auto first = ranks.first_message(failure))
     throw InputError({"mpirun", 0, 0, ""}, *first);
+}
+
+namespace {
+
+/// What a distributed run cannot do yet, refused before anything is written (exit 2).
+void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& options) {
+  auto refuse = [](const std::string& what) {
+    throw InputError({"mpirun", 0, 0, ""},
+                     fmt::format("{} does not run distributed yet; run it without mpirun", what));
+  };
+#ifndef TALUS_HAVE_TRILINOS
+  for (const StageSpec& stage : stages_of(spec))
+    if (stage.analysis != AnalysisType::Explicit)
+      refuse(fmt::format("an implicit analysis ('{}') in a binary without Trilinos",
+                         analysis_name(stage.analysis)));
+#else
+  (void)spec;
+#endif
+  if (!options.dump_tangent.empty())
+    refuse("--dump-tangent");
 }
 
 /// A resumed run's starting point: its newest valid checkpoint, read and checked against the

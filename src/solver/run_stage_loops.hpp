@@ -299,8 +299,11 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     dt = s.implicit_dt;
     easy_steps = s.easy_steps;
   }
-  // One log for the run: the first stage creates it, later stages append.
-  std::FILE* log = std::fopen((out_dir / "newton.log").c_str(), s.step == 0 ? "w" : "a");
+  // One log for the run: the first stage creates it, later stages append. A distributed run's
+  // Newton is one over the ranks: rank 0 writes it.
+  const bool writes = !scene.distributed() || scene.decomposition->comm().root();
+  std::FILE* log = std::fopen(writes ? (out_dir / "newton.log").c_str() : "/dev/null",
+                              s.step == 0 ? "w" : "a");
   if (!log)
     throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
@@ -340,7 +343,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   try {
     while (s.t < time.end_time * (1.0 - 1e-14)) {
       check_limits(time, s);
-      if (g_interrupted) {
+      if (interrupt_noticed(scene)) {
         s.checkpoint_if_due();
         break;
       }
@@ -395,6 +398,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
       ask_stop(s, scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);
+      move_points_to_owners(scene, *solver, result);
       const int easy = scene.spec.solver.easy_newton_iterations;
       if (r.iterations <= easy && ++easy_steps >= 2) {
         dt = std::min(2.0 * dt, dt0);

@@ -289,6 +289,8 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
                      "crest 'probe'); see docs/case-format.md");
   const auto wall_start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
+  // Under mpirun every rank runs each trial's run; rank 0 alone writes the search's files.
+  const Communicator& ranks = Communicator::world();
   FosRunResult result;
   result.out_dir =
       options.out_dir.empty() ? fs::path("results") / (spec.name + "-fos") : options.out_dir;
@@ -297,11 +299,15 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
       throw InputError({"--resume", 0, 0, ""},
                        fmt::format("'{}' holds no search to resume (no '{}' folder)",
                                    result.out_dir.string(), kTrialsDir));
-  } else {
-    claim_output_directory(result.out_dir, options.force, kFosEntries);
   }
-  fs::create_directories(result.out_dir / kTrialsDir);
-  std::ofstream log(result.out_dir / "fos.log");
+  on_root(ranks, [&] {
+    if (!options.resume)
+      claim_output_directory(result.out_dir, options.force, kFosEntries);
+    fs::create_directories(result.out_dir / kTrialsDir);
+  });
+  std::ofstream log; // closed on the other ranks: their writes go nowhere
+  if (ranks.root())
+    log.open(result.out_dir / "fos.log");
   log << fmt::format("# talus fos {}: strength reduction c / F, tan(phi) / F; a trial fails when "
                      "Newton does not converge at the smallest load step{}\n",
                      spec.name,
@@ -326,8 +332,10 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
     const std::string line =
         fmt::format("trial F = {:.6f}: {} ({:.2f} s)", t.factor, t.reason, t.seconds);
     log << line << "\n" << std::flush;
-    fmt::print("{}\n", line);
-    std::fflush(stdout);
+    if (ranks.root()) {
+      fmt::print("{}\n", line);
+      std::fflush(stdout);
+    }
   };
   if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
     result.fos = incremental_factor_of_safety(spec, result.out_dir / kTrialsDir / "incremental",
@@ -349,12 +357,15 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   result.exit_code = interrupted ? kExitOther : result.fos.bracketed ? kExitOk : kExitNumerical;
   log << fmt::format("# {}; {} Newton iterations, {:.2f} s ({:.2f} s of CPU)\n", result.fos.message,
                      result.newton_iterations, result.wall_seconds, result.cpu_seconds);
-  write_fos_csv(result.out_dir / "fos.csv", result.fos);
-  write_fos_json(result.out_dir / "fos.json", spec, result);
-  run_python_script("plot_fos.py",
-                    {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(),
-                     spec.name, fmt::format("{:.17g}", result.fos.lower),
-                     fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0"});
+  on_root(ranks, [&] {
+    write_fos_csv(result.out_dir / "fos.csv", result.fos);
+    write_fos_json(result.out_dir / "fos.json", spec, result);
+    run_python_script("plot_fos.py", {(result.out_dir / "fos.csv").string(),
+                                      (result.out_dir / "fos.png").string(), spec.name,
+                                      fmt::format("{:.17g}", result.fos.lower),
+                                      fmt::format("{:.17g}", result.fos.upper),
+                                      result.fos.bracketed ? "1" : "0"});
+  });
   return result;
 }
 

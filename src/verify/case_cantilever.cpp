@@ -132,6 +132,7 @@ std::vector<Check> cantilever_checks(const VerificationContext& ctx, const std::
 VerificationCase cantilever() {
   VerificationCase vc;
   vc.name = "cantilever";
+  vc.distributable = true;
   vc.description =
       "The talk's cantilever (L = 8, D = 1, E = 3e5, nu = 0), implicit quasi-static with GIMP: "
       "tip deflection in the linear range against Timoshenko-Goodier under refinement, and "

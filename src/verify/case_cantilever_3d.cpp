@@ -78,6 +78,7 @@ TipDeflection tip_deflection(const VerificationContext& ctx, int cells, double n
 VerificationCase cantilever_3d() {
   VerificationCase vc;
   vc.name = "cantilever_3d";
+  vc.distributable = true;
   vc.description = "The cantilever in 3D, square section, L/D = 8: the tip deflection against "
                    "Timoshenko-Goodier for nu = 0 and 0.3 at 2, 4 and 8 cells through the depth "
                    "with the observed order (GIMP, implicit).";

@@ -166,6 +166,7 @@ void write_profiles_csv(const std::filesystem::path& file, const MidSpan& m) {
 VerificationCase grashof() {
   VerificationCase vc;
   vc.name = "grashof";
+  vc.distributable = true;
   vc.description =
       "Stress recovery (Andersen 2013) on the talk's cantilever (L = 8, D = 1, nu = 0, E = 3e8 "
       "so that the section's rotation does not enter the small-strain references, "

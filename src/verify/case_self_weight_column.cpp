@@ -68,6 +68,7 @@ std::vector<Check> column_checks(const VerificationContext& ctx,
 VerificationCase self_weight_column() {
   VerificationCase vc;
   vc.name = "self_weight_column";
+  vc.distributable = true;
   vc.description = "Elastic column under self-weight (implicit quasi-static, GIMP): particle "
                    "sigma_yy against -rho g (H - Y), relative L2 error under refinement.";
   vc.tiers = {"fast", "full"};
@@ -90,6 +91,7 @@ VerificationCase self_weight_column() {
 VerificationCase self_weight_column_3d() {
   VerificationCase vc;
   vc.name = "self_weight_column_3d";
+  vc.distributable = true;
   vc.description = "The elastic self-weight column in 3D (rollers on four sides): sigma_yy "
                    "against -rho g (H - Y) under refinement, equal to the 2D column.";
   vc.tiers = {"fast", "full"};

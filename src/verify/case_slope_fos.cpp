@@ -108,6 +108,7 @@ Ensemble plane_strain_ensemble(const VerificationContext& ctx, const CaseSpec& s
 VerificationCase slope_fos() {
   VerificationCase vc;
   vc.name = "slope_fos";
+  vc.distributable = true;
   vc.description = "Griffiths & Lane (1999) homogeneous 2:1 slope (c' = 10 kPa, phi' = 20 deg, "
                    "psi = 0): factor of safety by strength reduction (c / F, tan phi / F, "
                    "bisection on F; failure: Newton non-convergence or the crest moving more "

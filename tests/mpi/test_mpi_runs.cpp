@@ -3,12 +3,8 @@
 // the nodes they both reach (parallel/node_halo.hpp), so a distributed run differs from the
 // serial one only in the order of those additions: round-off, which the elastic cases keep
 // below 1e-12 of each field's scale and a plastic return map amplifies (tolerances below).
-#include "../unit/cli_support.hpp"
-#include "../unit/result_comparison.hpp"
+#include "mpi_fixture.hpp"
 
-#include <nlohmann/json.hpp>
-
-#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -19,77 +15,6 @@ using namespace talus::test_support;
 using talus::Index;
 
 namespace {
-
-const fs::path kCases = fs::path(TALUS_SOURCE_DIR) / "cases";
-
-/// `args` followed by `more`.
-std::vector<std::string> appended(std::vector<std::string> args,
-                                  const std::vector<std::string>& more) {
-  args.insert(args.end(), more.begin(), more.end());
-  return args;
-}
-
-nlohmann::json summary_of(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
-  return nlohmann::json::parse(in);
-}
-
-class Mpi : public Cli {
-protected:
-  void SetUp() override {
-    Cli::SetUp();
-    // CI runs as root, which OpenMPI refuses unless told; every rank shares the machine's
-    // two cores (oversubscribed).
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
-  }
-
-  /// `mpirun -np N talus ARGS` in the work directory.
-  Outcome mpirun(int ranks, const std::vector<std::string>& args) {
-    std::vector<std::string> all = {"-np", std::to_string(ranks), "--oversubscribe", TALUS_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    Child child(all, work(), root_, TALUS_MPIEXEC);
-    EXPECT_TRUE(child.started());
-    return child.wait();
-  }
-
-  /// The case run serially into `serial` and on `ranks` ranks into `distributed`; both complete.
-  void run_both(const fs::path& case_file, const std::vector<std::string>& sets, int ranks) {
-    std::vector<std::string> args = {"run", case_file.string(), "--threads", "1"};
-    for (const auto& s : sets) {
-      args.push_back("--set");
-      args.push_back(s);
-    }
-    const Outcome serial = talus(appended(args, {"--out", "serial"}));
-    ASSERT_EQ(serial.exit_code, 0) << serial.describe();
-    const Outcome distributed = mpirun(ranks, appended(args, {"--out", "distributed"}));
-    ASSERT_EQ(distributed.exit_code, 0) << distributed.describe();
-    const auto a = summary_of(work() / "serial"), b = summary_of(work() / "distributed");
-    EXPECT_EQ(a.at("steps"), b.at("steps"));
-    EXPECT_EQ(a.at("particles"), b.at("particles"));
-    EXPECT_EQ(a.at("frames"), b.at("frames"));
-  }
-
-  /// The two results agree to `relative` of each field's and column's scale; a momentum that
-  /// is conserved at zero is judged against the largest momentum of the motion, sqrt(2 M E_kin).
-  void expect_agree(double relative, const std::string& other = "distributed") {
-    const talus::CsvTable series = talus::read_csv(work() / "serial" / "timeseries.csv");
-    const talus::ResultsReader reader(work() / "serial" / "run.h5");
-    Index rows = 0, cols = 0;
-    double mass = 0;
-    for (double m : reader.read(0, "mass", &rows, &cols))
-      mass += m;
-    const auto& kinetic = series.column("kinetic_energy");
-    const double momentum =
-        std::sqrt(2.0 * mass * *std::max_element(kinetic.begin(), kinetic.end()));
-    Equality eq{relative, {}, true};
-    for (const char* axis : {"x", "y", "z"})
-      eq.column_scale[std::string("momentum_") + axis] = momentum;
-    expect_same_series(work() / "serial", work() / other, eq);
-    expect_same_frames(work() / "serial", work() / other, eq);
-  }
-};
 
 // The colliding discs (2D, MUSL, GIMP): the discs meet across the cut between the two ranks'
 // boxes, so points migrate (about 400) and the contact is summed over both ranks. Measured
@@ -273,21 +198,6 @@ TEST_F(Mpi, AnInterruptedRunResumesOnAnyNumberOfRanks) {
   const Outcome on_one = talus(args({"run", case_file, "--resume", "killed_serial"}));
   ASSERT_EQ(on_one.exit_code, 0) << on_one.describe();
   expect_agree(1e-12, "killed_serial");
-}
-
-// What does not run distributed yet is refused before anything is written (exit 2).
-TEST_F(Mpi, RefusesWhatItCannotDistribute) {
-  const Outcome r = mpirun(2, {"run", (kCases / "cantilever.yaml").string(), "--out", "refused"});
-  EXPECT_EQ(r.exit_code, 2) << r.describe();
-  EXPECT_NE(r.err.find("does not run distributed yet"), std::string::npos) << r.describe();
-  EXPECT_FALSE(fs::exists(work() / "refused"));
-  // The commands that do not step an explicit case are refused under mpirun as a whole.
-  const Outcome fos =
-      mpirun(2, {"fos", (kCases / "slope_griffiths_lane.yaml").string(), "--out", "refused"});
-  EXPECT_EQ(fos.exit_code, 2) << fos.describe();
-  EXPECT_NE(fos.err.find("talus fos does not run under mpirun"), std::string::npos)
-      << fos.describe();
-  EXPECT_FALSE(fs::exists(work() / "refused"));
 }
 
 } // namespace

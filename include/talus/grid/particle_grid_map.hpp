@@ -24,6 +24,7 @@
 #include <array>
 #include <cstdint>
 #include <fmt/format.h>
+#include <iterator>
 #include <numeric>
 #include <type_traits>
 #include <vector>
@@ -115,6 +116,15 @@ public:
             by_point_[static_cast<std::size_t>(point_at_slot(q))];
       });
     }
+    extra_ids_.clear();
+    activate_nodes();
+  }
+
+  /// Adds nodes that no point's stencil reaches to the active nodes (a distributed run's
+  /// ghost-penalty faces that reach past the rank's own points), renumbering them all; the
+  /// added nodes have no points. `lattice_ids`: ascending and distinct.
+  void add_nodes(std::vector<Index> lattice_ids) {
+    extra_ids_ = std::move(lattice_ids);
     activate_nodes();
   }
 
@@ -287,6 +297,12 @@ private:
       ids.swap(scratch_);
       stride *= grid_->nodes(d);
     }
+    if (!extra_ids_.empty()) { // nodes without points: rows of stencils stay consecutive
+      scratch_.clear();
+      std::set_union(ids.begin(), ids.end(), extra_ids_.begin(), extra_ids_.end(),
+                     std::back_inserter(scratch_));
+      ids.swap(scratch_);
+    }
     for (int r = 0; r < kRows; ++r) {
       const auto local = digits(W * r);
       Index shift = 0, step = 1;
@@ -391,6 +407,7 @@ private:
   std::vector<std::int32_t> bin_rows_;    ///< per bin and row: node number of the row's first node
   std::vector<std::int32_t> node_rows_;   ///< per node and row: the last bin at or before it, -1
   std::vector<Index> scratch_, node_ids_; // reused step to step: no allocation once sized
+  std::vector<Index> extra_ids_;          ///< add_nodes()' nodes, until the next update()
   ActiveNodes<Dim> nodes_;
 };
 

@@ -35,6 +35,26 @@ public:
            lowest_[static_cast<std::size_t>(it - shared_.begin())] == decomposition_->comm().rank();
   }
 
+  /// The lowest rank holding node n (this rank for a node no other rank holds): its owner.
+  int owner(Index n) const {
+    const auto it = std::lower_bound(shared_.begin(), shared_.end(), n);
+    return it == shared_.end() || *it != n
+               ? decomposition_->comm().rank()
+               : lowest_[static_cast<std::size_t>(it - shared_.begin())];
+  }
+
+  /// The neighbours' active nodes that lie within this rank's reach, whether this rank holds
+  /// them or not, with `width` values per node: a view of the grid a few cells beyond this
+  /// rank's own nodes (the ghost penalty decides which faces to stabilise from it).
+  struct NeighbourNodes {
+    std::vector<int> rank;           ///< per received node: the neighbour that sent it
+    std::vector<Index> lattice_id;   ///< per received node
+    std::vector<double> values;      ///< `width` per received node
+  };
+  /// Collective among neighbours. values: `width` per active node of connect()'s nodes.
+  NeighbourNodes neighbour_nodes(const ActiveNodes<Dim>& nodes, std::span<const double> values,
+                                 int width) const;
+
 private:
   const Decomposition<Dim>* decomposition_ = nullptr;
   std::vector<int> peers_;                     ///< neighbours that share nodes this step

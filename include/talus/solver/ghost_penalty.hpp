@@ -62,6 +62,16 @@ public:
   /// (the mean x of its on-face nodes); multiplies every face's stiffness by it.
   void weight_by_radius(const ActiveNodes<Dim>& nodes);
 
+  /// Keeps the faces keep(face) accepts, each node n renumbered to renumber(n): a distributed
+  /// run finds the faces on a view of the grid wider than its own nodes and keeps those it
+  /// assembles.
+  template <class Keep, class Renumber> void select(Keep&& keep, Renumber&& renumber) {
+    std::erase_if(faces_, [&](const Face& f) { return !keep(f); });
+    for (Face& f : faces_)
+      for (Index& n : f.nodes)
+        n = renumber(n);
+  }
+
   const std::vector<Face>& faces() const { return faces_; }
   /// (d d^T) (x) M^(x)(Dim-1), the face matrix for unit stiffness.
   static const FaceMatrix& face_matrix();

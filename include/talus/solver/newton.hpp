@@ -4,6 +4,7 @@
 // custom SUNLinearSolver. The caller provides the residual and the consistent Jacobian.
 #include "talus/core/types.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/parallel/communicator.hpp"
 
 #include <Eigen/Core>
 #include <string>
@@ -14,7 +15,14 @@ namespace talus {
 class NonlinearSystem {
 public:
   virtual ~NonlinearSystem() = default;
+  /// The unknowns this process holds (all of them, or in a distributed run the owned ones).
   virtual Index size() const = 0;
+  /// A distributed run: the ranks the unknowns are spread over (KINSOL's vectors then take
+  /// their norms and dot products over all of them; every call below is collective, and
+  /// residual() must agree across the ranks on whether x is admissible). Null: one process.
+  virtual const Communicator* communicator() const { return nullptr; }
+  /// The unknowns of all ranks.
+  virtual Index global_size() const { return size(); }
   /// R(x). Returns false when x is not admissible (a material update failed, det F <= 0):
   /// KINSOL then shortens the step, and the load stepper cuts back if that does not help.
   virtual bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) = 0;

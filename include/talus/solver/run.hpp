@@ -3,6 +3,7 @@
 // timeseries.csv rows and summary.json, and shows progress. Bad input surfaces as InputError
 // before anything is written; numerical failure ends the run with the earlier frames intact.
 #include "talus/io/case_spec.hpp"
+#include "talus/parallel/communicator.hpp"
 #include "talus/io/results.hpp"
 
 #include <filesystem>
@@ -75,5 +76,9 @@ void claim_output_directory(const std::filesystem::path& dir, bool force,
 void prepare_output_directory(const std::filesystem::path& dir, bool force);
 
 RunResult run_case(const CaseSpec& spec, const RunOptions& options);
+
+/// Runs `work` (file-system work: claiming a directory, writing a file) on rank 0 alone; an
+/// InputError there stops every rank with its message. Collective in a distributed run.
+void on_root(const Communicator& ranks, const std::function<void()>& work);
 
 } // namespace talus

@@ -74,8 +74,9 @@ struct VerificationCase {
   std::vector<std::string> tiers; ///< tiers that include the case
   std::string scene;              ///< verification/<scene>.yaml; empty: the case's name
   std::function<std::vector<Check>(const VerificationContext&)> run;
-  /// Its runs are explicit analyses only, which run distributed: `talus verify --mpi N` runs
-  /// it under mpirun with the same checks.
+  /// `talus verify --mpi N` runs it under mpirun with the same checks: the explicit cases and
+  /// the implicit ones whose checks hold there (the iterative solve Belos does in a distributed
+  /// run, where the serial run factorises).
   bool distributable = false;
 };
 

@@ -9,12 +9,9 @@
 // `talus` without mpirun) the process owns every row.
 #include "trilinos_solver.hpp"
 
+#include "belos_muelu.hpp"
 #include "talus/core/errors.hpp"
 
-#include <BelosLinearProblem.hpp>
-#include <BelosSolverFactory.hpp>
-#include <BelosSolverFactory_Tpetra.hpp>
-#include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
 #include <MueLu_CreateTpetraPreconditioner.hpp>
 #include <Teuchos_ParameterList.hpp>
@@ -37,16 +34,8 @@
 namespace talus::detail {
 namespace {
 
-using SC = double;
-using map_type = Tpetra::Map<>;
-using LO = map_type::local_ordinal_type;
-using GO = map_type::global_ordinal_type;
-using NO = map_type::node_type;
 using graph_type = Tpetra::CrsGraph<LO, GO, NO>;
-using matrix_type = Tpetra::CrsMatrix<SC, LO, GO, NO>;
 using row_matrix_type = Tpetra::RowMatrix<SC, LO, GO, NO>;
-using MV = Tpetra::MultiVector<SC, LO, GO, NO>;
-using OP = Tpetra::Operator<SC, LO, GO, NO>;
 using import_type = Tpetra::Import<LO, GO, NO>;
 using ifpack_type = Ifpack2::Preconditioner<SC, LO, GO, NO>;
 using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
@@ -137,7 +126,7 @@ public:
         ifpack_->compute();
         prec_ = ifpack_;
       } else {
-        Teuchos::ParameterList params = muelu_parameters();
+        Teuchos::ParameterList params = muelu_parameters(comm_->getSize());
         if (near_null_space_.rows() == rows_.rows() && near_null_space_.cols() > 0)
           params.sublist("user data").set("Nullspace", null_space_vectors());
         prec_ = MueLu::CreateTpetraPreconditioner(Teuchos::rcp_implicit_cast<OP>(matrix_), params);
@@ -172,57 +161,14 @@ public:
       }
     }
     auto X = Teuchos::rcp(new MV(map_, 1)); // zero initial guess
-    auto params = Teuchos::parameterList();
-    params->set("Convergence Tolerance", tolerance_);
-    params->set("Maximum Iterations", max_iterations_);
-    params->set("Verbosity", static_cast<int>(Belos::Errors));
-    params->set("Implicit Residual Scaling", std::string("Norm of RHS"));
-    if (!cg_) {
-      const int restart = std::max(1, std::min(max_iterations_, 150));
-      params->set("Num Blocks", restart);
-      params->set("Maximum Restarts", max_iterations_ / restart + 1);
-      params->set("Explicit Residual Scaling", std::string("Norm of RHS"));
-    }
-    Belos::SolverFactory<SC, MV, OP> factory;
-    auto solver = factory.create(cg_ ? "CG" : "GMRES", params);
-    auto problem = Teuchos::rcp(new Belos::LinearProblem<SC, MV, OP>(matrix_, X, B));
-    if (cg_) {
-      problem->setLeftPrec(prec_);
-    } else {
-      problem->setRightPrec(prec_); // keeps GMRES's residual the unpreconditioned one
-    }
-
-    LinearSolveStats stats;
-    // The solvers stop on their recursive residual; we accept on the true one. If they differ
-    // (rounding drift), one restart from the current iterate recovers the missing digits.
-    for (int pass = 0; pass < 2; ++pass) {
-      try {
-        problem->setProblem(); // (re)computes the initial residual from the current X
-        solver->setProblem(problem);
-        solver->solve();
-      } catch (const std::exception& e) {
-        throw NumericalError(fmt::format("{}: solver failed after {} iterations: {}", description(),
-                                         stats.iterations + solver->getNumIters(), e.what()));
-      }
-      stats.iterations += solver->getNumIters();
-      MV all(replicated_map_, 1);
-      all.doImport(*X, *gather_, Tpetra::INSERT);
-      auto data = all.getData(0);
-      x.resize(n);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        x(i) = data[static_cast<size_t>(i)]; // replicated map: local index == global index
-      }
-      stats.relative_residual = (b - rows_ * x).norm() / bnorm;
-      if (stats.relative_residual <= tolerance_ || stats.iterations >= max_iterations_ ||
-          !std::isfinite(stats.relative_residual)) {
-        break;
-      }
-    }
-    if (!(stats.relative_residual <= tolerance_)) {
-      throw NumericalError(fmt::format(
-          "{}: did not reach the tolerance {:.3g}: {} iterations, ||b - Ax||/||b|| = {:.3e}",
-          description(), tolerance_, stats.iterations, stats.relative_residual));
-    }
+    const LinearSolveStats stats =
+        belos_solve(cg_, matrix_, prec_, X, B, tolerance_, max_iterations_, description());
+    MV all(replicated_map_, 1);
+    all.doImport(*X, *gather_, Tpetra::INSERT);
+    auto data = all.getData(0);
+    x.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      x(i) = data[static_cast<size_t>(i)]; // replicated map: local index == global index
     return stats;
   }
 
@@ -269,33 +215,6 @@ private:
           Teuchos::ArrayView<const SC>(rows_.valuePtr() + begin, end - begin));
     }
     matrix_->fillComplete();
-  }
-
-  Teuchos::ParameterList muelu_parameters() const {
-    Teuchos::ParameterList p;
-    p.set("verbosity", std::string("none"));
-    p.set("multigrid algorithm", std::string("sa"));
-    p.set("number of equations", 1);
-    p.set("max levels", 10);
-    p.set("coarse: max size", 1000);
-    p.set("aggregation: type", std::string("uncoupled"));
-    p.set("smoother: type", std::string("RELAXATION"));
-    auto& smoother = p.sublist("smoother: params");
-    smoother.set("relaxation: type", std::string("Symmetric Gauss-Seidel")); // symmetric: CG
-    smoother.set("relaxation: sweeps", 1);
-    p.set("repartition: enable", false); // would need nodal coordinates
-    if (comm_->getSize() == 1) {
-      p.set("coarse: type", std::string("KLU2"));
-    } else {
-      // Without repartitioning the coarsest matrix stays distributed, and Amesos2's KLU2 then
-      // does not give the exact coarse solve (CG with such a preconditioner stagnates): smooth
-      // the coarse level instead.
-      p.set("coarse: type", std::string("RELAXATION"));
-      auto& coarse = p.sublist("coarse: params");
-      coarse.set("relaxation: type", std::string("Symmetric Gauss-Seidel"));
-      coarse.set("relaxation: sweeps", 4);
-    }
-    return p;
   }
 
   bool cg_;

@@ -2,6 +2,7 @@
 // Private to src/linalg: the Trilinos backends live in their own static library (talus_trilinos,
 // compiled only when TALUS_HAVE_TRILINOS is set) so that the heavy Trilinos headers stay out of
 // every other translation unit. make_linear_solver() calls this factory.
+#include "talus/linalg/distributed_linear_solver.hpp"
 #include "talus/linalg/linear_solver.hpp"
 
 #include <memory>
@@ -15,6 +16,10 @@ namespace talus::detail {
 /// handler, so a Trilinos solver must not outlive main() (no static LinearSolver objects).
 /// Throws std::invalid_argument for another kind or an unknown preconditioner name.
 std::unique_ptr<LinearSolver> make_trilinos_solver(const LinearSolverOptions& options);
+
+/// make_distributed_linear_solver() with Trilinos (distributed_solver.cpp).
+std::unique_ptr<DistributedLinearSolver>
+make_distributed_trilinos_solver(const LinearSolverOptions& options, MPI_Comm comm);
 
 /// Initialises MPI (singleton MPI_COMM_WORLD when started without mpirun) and Kokkos once, unless
 /// the application already did; Tpetra::finalize at exit undoes only what it did itself. Every
