@@ -319,7 +319,15 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
                    0);
   // The stage's counts into the run's numbers: at the stage's end (with its load steps), or
   // into a checkpoint's copy of them (the load steps follow from the steps then).
+  // The stepping loop's own time, as the explicit loop's (summary.json "seconds_stepping").
+  const auto loop_start = std::chrono::steady_clock::now();
+  const double frame_seconds_before = rec.frame_seconds;
+  const Index steps_before = s.step;
   auto add_totals = [&](std::map<std::string, double>& x, bool with_load_steps) {
+    x["seconds_stepping"] +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count() -
+        (rec.frame_seconds - frame_seconds_before);
+    x["steps_stepping"] += static_cast<double>(s.step - steps_before);
     if (with_load_steps)
       x["load_steps"] += static_cast<double>(s.step - s.stage_first_step);
     x["newton_iterations"] += static_cast<double>(newton_iterations);

@@ -108,7 +108,7 @@ std::string cell(double v, const char* format) {
 
 std::vector<std::string> refined_run_args(const RefinedScene& scene,
                                           const std::filesystem::path& dir, int threads) {
-  return {"run",
+  std::vector<std::string> args = {"run",
           (verification_dir() / (scene.scene + ".yaml")).string(),
           "--out",
           dir.string(),
@@ -121,6 +121,11 @@ std::vector<std::string> refined_run_args(const RefinedScene& scene,
           fmt::format("time.end_time={:g}", scene.end_time),
           "--set",
           "output.every_time=1"};
+  for (const std::string& o : scene.overrides) {
+    args.push_back("--set");
+    args.push_back(o);
+  }
+  return args;
 }
 
 } // namespace talus::bench_detail

@@ -42,6 +42,7 @@ struct RefinedScene {
   int dimension = 2;
   double cell_size = 0;
   double end_time = 0;
+  std::vector<std::string> overrides{}; ///< further `--set` KEY=VALUE
 };
 
 /// `run <scene> --out dir --force --threads N` at the scene's cell size and end time, with

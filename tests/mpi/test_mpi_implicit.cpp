@@ -37,6 +37,23 @@ std::vector<NewtonLine> newton_log(const fs::path& dir) {
   return out;
 }
 
+/// Per trial of fos.csv: (factor, failed) (the first fields; the last, the reason, is text).
+std::vector<std::pair<double, int>> trial_outcomes(const fs::path& dir) {
+  std::ifstream in(dir / "fos.csv");
+  std::vector<std::pair<double, int>> out;
+  std::string line;
+  std::getline(in, line); // header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string trial, factor, failed;
+    std::getline(fields, trial, ',');
+    std::getline(fields, factor, ',');
+    std::getline(fields, failed, ',');
+    out.emplace_back(std::stod(factor), std::stoi(failed));
+  }
+  return out;
+}
+
 class MpiImplicit : public Mpi {
 protected:
   /// expect_agree, and the displacements (position minus the first frame's) agree to
@@ -120,25 +137,38 @@ TEST_F(MpiImplicit, StripFootingEqualsTheSerialRun) {
   expect_same_newton_path(-1);
 }
 
-// Griffiths & Lane's slope by strength reduction on two ranks: every trial stands or fails as
-// in the serial search, so the bracket is the same.
+// Griffiths & Lane's slope by strength reduction on two ranks (at h = 1 m, twice the case's
+// cell, to keep the test short). A trial stands or fails as in the serial search unless its
+// factor lies within the search's tolerance of the factor of safety: there whether Newton
+// converges at the smallest load step depends on the digits each linear solver leaves (UMFPACK
+// serially, GMRES distributed; measured at h = 1: the trial at 1.484 stood serially and failed
+// on two ranks, every other trial alike; at h = 0.5 all eight alike). So the two factors of
+// safety agree within the tolerance, and the trials farther from it agree exactly (at h = 1:
+// F = 1, 2, 1.25, 1.375).
 TEST_F(MpiImplicit, GriffithsLaneFactorOfSafetyIsTheSerialOne) {
   const std::string case_file = (kCases / "slope_griffiths_lane.yaml").string();
-  const Outcome serial = talus({"fos", case_file, "--threads", "1", "--out", "serial"});
+  const std::vector<std::string> args = {"fos",   case_file, "--threads",
+                                         "1",     "--set",   "grid.cell_size=1",
+                                         "--out"};
+  const Outcome serial = talus(appended(args, {"serial"}));
   ASSERT_EQ(serial.exit_code, 0) << serial.describe();
-  const Outcome distributed =
-      mpirun(2, {"fos", case_file, "--threads", "1", "--out", "distributed"});
+  const Outcome distributed = mpirun(2, appended(args, {"distributed"}));
   ASSERT_EQ(distributed.exit_code, 0) << distributed.describe();
-  const talus::CsvTable a = talus::read_csv(work() / "serial" / "fos.csv");
-  const talus::CsvTable b = talus::read_csv(work() / "distributed" / "fos.csv");
-  ASSERT_EQ(a.column("factor").size(), b.column("factor").size());
-  for (std::size_t k = 0; k < a.column("factor").size(); ++k) {
-    EXPECT_EQ(a.column("factor")[k], b.column("factor")[k]) << "trial " << k + 1;
-    EXPECT_EQ(a.column("failed")[k], b.column("failed")[k]) << "trial " << k + 1;
-  }
   std::ifstream ja(work() / "serial" / "fos.json"), jb(work() / "distributed" / "fos.json");
   const auto fa = nlohmann::json::parse(ja), fb = nlohmann::json::parse(jb);
-  EXPECT_EQ(fa.at("bracket"), fb.at("bracket"));
+  const double tolerance = 0.02; // the case's strength_reduction.tolerance
+  const double fos = fa.at("factor_of_safety").get<double>();
+  EXPECT_NEAR(fb.at("factor_of_safety").get<double>(), fos, tolerance);
+  const auto a = trial_outcomes(work() / "serial"), b = trial_outcomes(work() / "distributed");
+  ASSERT_GE(a.size(), 6u);
+  std::size_t compared = 0;
+  // The searches run the same factors until an outcome near the factor of safety parts them.
+  for (std::size_t k = 0; k < std::min(a.size(), b.size()) && a[k].first == b[k].first; ++k)
+    if (std::abs(a[k].first - fos) > tolerance) {
+      EXPECT_EQ(a[k].second, b[k].second) << "trial " << k + 1 << " at F = " << a[k].first;
+      ++compared;
+    }
+  EXPECT_GE(compared, 4u);
   // One line of output, from rank 0.
   EXPECT_EQ(std::count(distributed.out.begin(), distributed.out.end(), '\n'),
             std::count(serial.out.begin(), serial.out.end(), '\n'));
