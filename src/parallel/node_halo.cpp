@@ -112,7 +112,8 @@ NodeHalo<Dim>::neighbour_nodes(const ActiveNodes<Dim>& nodes, std::span<const do
     for (Index n = 0; n < nodes.size(); ++n)
       if (dec.reaches(neighbours[k], nodes.position(n))) {
         to[k].push_back(std::bit_cast<double>(nodes.lattice_id(n)));
-        const auto first = values.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(n) * w);
+        const auto first =
+            values.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(n) * w);
         to[k].insert(to[k].end(), first, first + static_cast<std::ptrdiff_t>(w));
       }
   const auto from = dec.comm().exchange(neighbours, to);

@@ -246,6 +246,7 @@ public:
       if (serial_map_.owned_count() != step_.owned_dof_count)
         throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
       distributed_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
+      distributed_->set_coordinates(unknown_positions());
     } else {
       const ParticleShare all[] = {whole_};
       serial_map_ = dof_map(whole_, node_owners(all));
@@ -325,6 +326,16 @@ private:
     Eigen::VectorXd all;
     distributed_->import_ghosts(du, all);
     return all;
+  }
+
+  /// Per unknown of the step, its node's position (MueLu repartitions coarse levels by them).
+  Eigen::MatrixXd unknown_positions() const {
+    Eigen::MatrixXd xyz(step_.dof_count, Dim);
+    for (Index n = 0; n < step_.map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a)
+        if (const Index dof = dof_of(n, a); dof >= 0)
+          xyz.row(dof) = step_.map.nodes().position(n).transpose();
+    return xyz;
   }
 
   /// Whether the map's share assembles the ghost-penalty face: the owner of its anchor node
@@ -730,9 +741,9 @@ private:
   Scene<Dim>& scene_;
   ImplicitStepSetup<Dim, Shape, Axisymmetric> step_; ///< connectivity, unknowns and loads
   std::unique_ptr<LinearSolver> linear_;
-  const Communicator* comm_ = nullptr;              ///< a distributed run's ranks
-  DistributedLinearSolver* distributed_ = nullptr;  ///< linear_, in a distributed run
-  std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
+  const Communicator* comm_ = nullptr;             ///< a distributed run's ranks
+  DistributedLinearSolver* distributed_ = nullptr; ///< linear_, in a distributed run
+  std::vector<double> material_young_;             ///< per material, for the ghost penalty's scale
   std::vector<M> trial_dF_;
   std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
   std::vector<Mat3> trial_F_;

@@ -4,7 +4,9 @@
 // component of a node with mass that no face holds), the prescribed increments, the loads with
 // the force scale Newton's tolerance is relative to, the ghost-penalty faces, and for Newmark
 // the lumped mass with the projected velocity and acceleration per unknown
-// (implicit_solver.cpp assembles and solves on it).
+// (implicit_solver.cpp assembles and solves on it). In a distributed run each rank sets up its
+// own points' step: the halo (parallel/node_halo.hpp) makes the node sums whole, every unknown
+// gets its global id, and the ghost-penalty faces come from a view of the neighbours' nodes.
 #include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/parallel/node_halo.hpp"
@@ -54,9 +56,9 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   /// with a lower rank; each node's components are consecutive.
   std::vector<Index> node_dof;
   Index owned_dof_count = 0;
-  std::vector<Index> dof_gid;   ///< per unknown: its global id (a distributed run; else empty)
-  Index global_dof_count = 0;   ///< the unknowns of every rank (owned ones counted once)
-  Index global_node_count = 0;  ///< the active nodes of every rank (each counted once)
+  std::vector<Index> dof_gid;        ///< per unknown: its global id (a distributed run; else empty)
+  Index global_dof_count = 0;        ///< the unknowns of every rank (owned ones counted once)
+  Index global_node_count = 0;       ///< the active nodes of every rank (each counted once)
   std::vector<double> prescribed_du; ///< per (node, component): this step's increment
   Index dof_count = 0;
   Eigen::VectorXd external;          ///< per unknown: the load
@@ -332,7 +334,8 @@ private:
     const auto nn = at(map.node_count());
     std::vector<double> momenta(2 * Dim * nn, 0.0); // per node: m v, then m a
     for (Index n = 0; n < map.node_count(); ++n) {
-      Eigen::Map<V> mv(momenta.data() + 2 * Dim * at(n)), ma(momenta.data() + 2 * Dim * at(n) + Dim);
+      Eigen::Map<V> mv(momenta.data() + 2 * Dim * at(n)),
+          ma(momenta.data() + 2 * Dim * at(n) + Dim);
       map.for_each_particle_of(n, [&](Index p, double w, const V&) {
         mv += w * P.mass[at(p)] * P.v[at(p)];
         ma += w * P.mass[at(p)] * P.acceleration[at(p)];

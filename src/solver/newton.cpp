@@ -18,8 +18,8 @@ namespace {
 
 // This process's entries (all of them, or a distributed run's owned ones).
 Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
-  const sunindextype n = N_VGetVectorID(v) == SUNDIALS_NVEC_PARALLEL ? N_VGetLocalLength_Parallel(v)
-                                                                      : N_VGetLength(v);
+  const sunindextype n =
+      N_VGetVectorID(v) == SUNDIALS_NVEC_PARALLEL ? N_VGetLocalLength_Parallel(v) : N_VGetLength(v);
   return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(n)};
 }
 
@@ -147,9 +147,9 @@ struct KinsolSession {
       throw std::runtime_error("SUNContext_Create failed");
     const auto n = static_cast<sunindextype>(system.size());
     auto make = [&] {
-      return comm ? N_VNew_Parallel(mpi, n, static_cast<sunindextype>(system.global_size()),
-                                    context)
-                  : N_VNew_Serial(n, context);
+      return comm
+                 ? N_VNew_Parallel(mpi, n, static_cast<sunindextype>(system.global_size()), context)
+                 : N_VNew_Serial(n, context);
     };
     u = make();
     u_scale = make();

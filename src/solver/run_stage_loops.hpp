@@ -302,8 +302,8 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   // One log for the run: the first stage creates it, later stages append. A distributed run's
   // Newton is one over the ranks: rank 0 writes it.
   const bool writes = !scene.distributed() || scene.decomposition->comm().root();
-  std::FILE* log = std::fopen(writes ? (out_dir / "newton.log").c_str() : "/dev/null",
-                              s.step == 0 ? "w" : "a");
+  std::FILE* log =
+      std::fopen(writes ? (out_dir / "newton.log").c_str() : "/dev/null", s.step == 0 ? "w" : "a");
   if (!log)
     throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);

@@ -360,11 +360,10 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   on_root(ranks, [&] {
     write_fos_csv(result.out_dir / "fos.csv", result.fos);
     write_fos_json(result.out_dir / "fos.json", spec, result);
-    run_python_script("plot_fos.py", {(result.out_dir / "fos.csv").string(),
-                                      (result.out_dir / "fos.png").string(), spec.name,
-                                      fmt::format("{:.17g}", result.fos.lower),
-                                      fmt::format("{:.17g}", result.fos.upper),
-                                      result.fos.bracketed ? "1" : "0"});
+    run_python_script("plot_fos.py",
+                      {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(),
+                       spec.name, fmt::format("{:.17g}", result.fos.lower),
+                       fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0"});
   });
   return result;
 }

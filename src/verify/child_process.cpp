@@ -109,18 +109,18 @@ std::string cell(double v, const char* format) {
 std::vector<std::string> refined_run_args(const RefinedScene& scene,
                                           const std::filesystem::path& dir, int threads) {
   std::vector<std::string> args = {"run",
-          (verification_dir() / (scene.scene + ".yaml")).string(),
-          "--out",
-          dir.string(),
-          "--force",
-          "--threads",
-          std::to_string(threads),
-          "--set",
-          fmt::format("grid.cell_size={:g}", scene.cell_size),
-          "--set",
-          fmt::format("time.end_time={:g}", scene.end_time),
-          "--set",
-          "output.every_time=1"};
+                                   (verification_dir() / (scene.scene + ".yaml")).string(),
+                                   "--out",
+                                   dir.string(),
+                                   "--force",
+                                   "--threads",
+                                   std::to_string(threads),
+                                   "--set",
+                                   fmt::format("grid.cell_size={:g}", scene.cell_size),
+                                   "--set",
+                                   fmt::format("time.end_time={:g}", scene.end_time),
+                                   "--set",
+                                   "output.every_time=1"};
   for (const std::string& o : scene.overrides) {
     args.push_back("--set");
     args.push_back(o);

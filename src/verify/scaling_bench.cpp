@@ -198,14 +198,14 @@ void write_csv(const fs::path& file, const std::vector<ScalingRow>& rows) {
       serial = r.stepping_seconds;
     const double speed_up = serial / r.stepping_seconds;
     const int cores = r.mode.ranks * r.mode.threads;
-    out << fmt::format(
-        "{},{},{:g},{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n",
-        r.config.scene.scene, r.config.scene.dimension, r.config.scene.cell_size,
-        linear_solver_of(r), r.mode.name, r.mode.ranks, r.mode.threads,
-        csv_number(r.particles), csv_number(r.steps), csv_number(r.stepping_seconds),
-        csv_number(speed_up), csv_number(speed_up / cores), csv_number(r.wall_seconds),
-        csv_number(r.cpu_seconds), csv_number(r.peak_rss_mb), csv_number(r.communication_share),
-        csv_number(r.migrated), csv_number(r.difference), r.status, r.message);
+    out << fmt::format("{},{},{:g},{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n",
+                       r.config.scene.scene, r.config.scene.dimension, r.config.scene.cell_size,
+                       linear_solver_of(r), r.mode.name, r.mode.ranks, r.mode.threads,
+                       csv_number(r.particles), csv_number(r.steps), csv_number(r.stepping_seconds),
+                       csv_number(speed_up), csv_number(speed_up / cores),
+                       csv_number(r.wall_seconds), csv_number(r.cpu_seconds),
+                       csv_number(r.peak_rss_mb), csv_number(r.communication_share),
+                       csv_number(r.migrated), csv_number(r.difference), r.status, r.message);
   }
 }
 
@@ -246,11 +246,10 @@ int run_scaling_bench(const BenchOptions& options) {
   fs::create_directories(runs);
   // Run through the contact, which the cut between the two ranks crosses: the ranks then share
   // the nodes of the contact zone.
-  std::vector<ScalingConfig> configs = {
-      {{"colliding_discs", 2, 0.005, 0.05}, ""},
-      {{"colliding_spheres", 3, 0.025, 0.03}, ""},
-      {{"cantilever", 2, 0.03125, 1.0}, "trilinos_cg"},
-      {{"cantilever_3d", 3, 0.125, 1.0}, "trilinos_cg"}};
+  std::vector<ScalingConfig> configs = {{{"colliding_discs", 2, 0.005, 0.05}, ""},
+                                        {{"colliding_spheres", 3, 0.025, 0.03}, ""},
+                                        {{"cantilever", 2, 0.03125, 1.0}, "trilinos_cg"},
+                                        {{"cantilever_3d", 3, 0.125, 1.0}, "trilinos_cg"}};
   if (options.quick)
     configs = {{{"colliding_discs", 2, 0.01, 0.05}, ""},
                {{"colliding_spheres", 3, 0.05, 0.03}, ""},

@@ -21,7 +21,7 @@ inline const fs::path kCases = fs::path(TALUS_SOURCE_DIR) / "cases";
 
 /// `args` followed by `more`.
 inline std::vector<std::string> appended(std::vector<std::string> args,
-                                  const std::vector<std::string>& more) {
+                                         const std::vector<std::string>& more) {
   args.insert(args.end(), more.begin(), more.end());
   return args;
 }

@@ -47,9 +47,9 @@ public:
   /// them or not, with `width` values per node: a view of the grid a few cells beyond this
   /// rank's own nodes (the ghost penalty decides which faces to stabilise from it).
   struct NeighbourNodes {
-    std::vector<int> rank;           ///< per received node: the neighbour that sent it
-    std::vector<Index> lattice_id;   ///< per received node
-    std::vector<double> values;      ///< `width` per received node
+    std::vector<int> rank;         ///< per received node: the neighbour that sent it
+    std::vector<Index> lattice_id; ///< per received node
+    std::vector<double> values;    ///< `width` per received node
   };
   /// Collective among neighbours. values: `width` per active node of connect()'s nodes.
   NeighbourNodes neighbour_nodes(const ActiveNodes<Dim>& nodes, std::span<const double> values,

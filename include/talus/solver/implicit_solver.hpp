@@ -17,9 +17,10 @@
 //   - the node terms (loads, Newmark inertia) of the nodes it owns;
 //   - the ghost-penalty faces whose first on-face node it owns.
 // Scattered to global DOFs and summed over the shares they give the one-process R and K (the
-// serial solver is one share owning every node); a later issue runs each share on its own MPI
-// rank and sums with a Tpetra Export (ADD). prepare() is still global: connectivity, unknowns,
-// node masses and loads are computed for all points.
+// serial solver is one share owning every node). A distributed run (scene.distributed()) is
+// one share per rank: the step's preparation is the rank's, made whole by halo sums
+// (implicit_step_setup.hpp), the shares are added by a Tpetra Export (ADD) and solved by Belos
+// with MueLu (distributed_linear_solver.hpp), and Newton's vectors hold the owned unknowns.
 #include "talus/core/scene.hpp"
 #include "talus/linalg/dof_map.hpp"
 #include "talus/linalg/linear_solver.hpp"

@@ -3,8 +3,8 @@
 // timeseries.csv rows and summary.json, and shows progress. Bad input surfaces as InputError
 // before anything is written; numerical failure ends the run with the earlier frames intact.
 #include "talus/io/case_spec.hpp"
-#include "talus/parallel/communicator.hpp"
 #include "talus/io/results.hpp"
+#include "talus/parallel/communicator.hpp"
 
 #include <filesystem>
 #include <functional>

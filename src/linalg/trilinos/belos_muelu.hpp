@@ -24,7 +24,8 @@ using MV = Tpetra::MultiVector<SC, LO, GO, NO>;
 using OP = Tpetra::Operator<SC, LO, GO, NO>;
 
 /// Smoothed aggregation for an elasticity-like operator; `ranks`: the processes the matrix is
-/// spread over (the coarse solve is exact on one, smoothed on several).
+/// spread over. On several, the coarse levels are repartitioned onto fewer ranks by the rows'
+/// coordinates, which the caller must add to the "user data" sublist as "Coordinates".
 Teuchos::ParameterList muelu_parameters(int ranks);
 
 /// Solves A X = B (X holds the initial guess) with Belos CG (`cg`) or GMRES, the

@@ -45,6 +45,7 @@ public:
   bool requires_symmetric() const override { return cg_; }
   bool uses_near_null_space() const override { return true; }
   void set_near_null_space(Eigen::MatrixXd modes) override { near_null_space_ = std::move(modes); }
+  void set_coordinates(Eigen::MatrixXd xyz) override { coordinates_ = std::move(xyz); }
 
   void set_unknowns(const std::vector<Index>& overlap_gids, Index owned_count,
                     Index global_count) override {
@@ -55,8 +56,9 @@ public:
     const auto total = static_cast<Tpetra::global_size_t>(global_count);
     owned_map_ = Teuchos::rcp(
         new map_type(total, Teuchos::ArrayView<const GO>(all.data(), owned), GO{0}, comm_));
-    overlap_map_ = Teuchos::rcp(new map_type(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                             Teuchos::ArrayView<const GO>(all), GO{0}, comm_));
+    overlap_map_ =
+        Teuchos::rcp(new map_type(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                  Teuchos::ArrayView<const GO>(all), GO{0}, comm_));
     importer_ = Teuchos::rcp(new import_type(owned_map_, overlap_map_));
     exporter_ = Teuchos::rcp(new export_type(overlap_map_, owned_map_));
     overlap_matrix_ = Teuchos::null;
@@ -87,8 +89,8 @@ public:
     require_unknowns();
     const auto n = static_cast<Eigen::Index>(overlap_map_->getNodeNumElements());
     if (A.rows() != n || A.cols() != n)
-      throw std::invalid_argument(fmt::format(
-          "{}: this rank's matrix is {} x {}, its unknowns {}", name(), A.rows(), A.cols(), n));
+      throw std::invalid_argument(fmt::format("{}: this rank's matrix is {} x {}, its unknowns {}",
+                                              name(), A.rows(), A.cols(), n));
     factorized_ = false;
     rows_ = A;
     rows_.makeCompressed();
@@ -103,7 +105,8 @@ public:
       graph->insertLocalIndices(static_cast<LO>(r), Teuchos::ArrayView<const LO>(cols));
     }
     graph->fillComplete(owned_map_, owned_map_);
-    overlap_matrix_ = Teuchos::rcp(new matrix_type(Teuchos::rcp_implicit_cast<const graph_type>(graph)));
+    overlap_matrix_ =
+        Teuchos::rcp(new matrix_type(Teuchos::rcp_implicit_cast<const graph_type>(graph)));
     fill_overlap();
     // The export builds the owned rows' graph; the matrix refilled in place shares it (a
     // static graph: the export then adds into existing entries).
@@ -132,21 +135,18 @@ public:
     matrix_->fillComplete(owned_map_, owned_map_);
     try {
       Teuchos::ParameterList params = muelu_parameters(comm_->getSize());
-      const auto owned = owned_map_->getNodeNumElements();
-      if (near_null_space_.cols() > 0 &&
-          near_null_space_.rows() >= static_cast<Eigen::Index>(owned)) {
-        auto modes =
-            Teuchos::rcp(new MV(owned_map_, static_cast<std::size_t>(near_null_space_.cols())));
-        for (std::size_t m = 0; m < modes->getNumVectors(); ++m) {
-          auto data = modes->getDataNonConst(m);
-          for (std::size_t i = 0; i < owned; ++i)
-            data[i] = near_null_space_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(m));
-        }
+      if (auto modes = owned_rows(near_null_space_); !modes.is_null())
         params.sublist("user data").set("Nullspace", modes);
+      if (comm_->getSize() > 1) {
+        auto xyz = owned_rows(coordinates_);
+        if (xyz.is_null())
+          throw std::logic_error("no coordinates for MueLu's repartitioning (set_coordinates)");
+        params.sublist("user data").set("Coordinates", xyz);
       }
       prec_ = MueLu::CreateTpetraPreconditioner(Teuchos::rcp_implicit_cast<OP>(matrix_), params);
     } catch (const std::exception& e) {
-      throw NumericalError(fmt::format("{}: preconditioner setup failed: {}", description(), e.what()));
+      throw NumericalError(
+          fmt::format("{}: preconditioner setup failed: {}", description(), e.what()));
     }
     factorized_ = true;
   }
@@ -177,6 +177,20 @@ public:
 private:
   std::string description() const { return name() + " (MueLu, distributed)"; }
 
+  /// The owned rows of a per-unknown table as Tpetra vectors (one per column); null if empty.
+  Teuchos::RCP<MV> owned_rows(const Eigen::MatrixXd& table) const {
+    const auto owned = owned_map_->getNodeNumElements();
+    if (table.cols() == 0 || table.rows() < static_cast<Eigen::Index>(owned))
+      return Teuchos::null;
+    auto out = Teuchos::rcp(new MV(owned_map_, static_cast<std::size_t>(table.cols())));
+    for (std::size_t c = 0; c < out->getNumVectors(); ++c) {
+      auto data = out->getDataNonConst(c);
+      for (std::size_t i = 0; i < owned; ++i)
+        data[i] = table(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c));
+    }
+    return out;
+  }
+
   void require_unknowns() const {
     if (owned_map_.is_null())
       throw std::logic_error(name() + ": set_unknowns() first");
@@ -185,13 +199,14 @@ private:
   static void copy_in(const Eigen::VectorXd& from, vector_type& to) {
     auto data = to.getDataNonConst();
     if (from.size() != static_cast<Eigen::Index>(data.size()))
-      throw std::invalid_argument(fmt::format("distributed vector: {} values for {} unknowns",
-                                              from.size(), data.size()));
+      throw std::invalid_argument(
+          fmt::format("distributed vector: {} values for {} unknowns", from.size(), data.size()));
     std::copy(from.data(), from.data() + from.size(), data.begin());
   }
   static void copy_out(const vector_type& from, Eigen::VectorXd& to) {
     auto data = from.getData();
-    to = Eigen::Map<const Eigen::VectorXd>(data.getRawPtr(), static_cast<Eigen::Index>(data.size()));
+    to =
+        Eigen::Map<const Eigen::VectorXd>(data.getRawPtr(), static_cast<Eigen::Index>(data.size()));
   }
 
   // rows_'s values into the overlap matrix (same pattern, local ids).
@@ -222,6 +237,7 @@ private:
   Teuchos::RCP<OP> prec_;
   RowMajorMatrix rows_; ///< this rank's last share (pattern check and values)
   Eigen::MatrixXd near_null_space_;
+  Eigen::MatrixXd coordinates_; ///< per local unknown, its node's position (repartitioning)
   bool factorized_ = false;
 };
 
@@ -231,8 +247,9 @@ std::unique_ptr<DistributedLinearSolver>
 make_distributed_trilinos_solver(const LinearSolverOptions& options, MPI_Comm comm) {
   if (options.kind != LinearSolverKind::TrilinosCg &&
       options.kind != LinearSolverKind::TrilinosGmres)
-    throw std::invalid_argument("a distributed run solves with trilinos_cg or trilinos_gmres, not " +
-                                to_string(options.kind));
+    throw std::invalid_argument(
+        "a distributed run solves with trilinos_cg or trilinos_gmres, not " +
+        to_string(options.kind));
   return std::make_unique<TpetraDistributedSolver>(options.kind == LinearSolverKind::TrilinosCg,
                                                    options.tolerance, options.max_iterations, comm);
 }
