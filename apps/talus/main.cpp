@@ -263,7 +263,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   verify
       ->add_option("--mpi", verify_options.mpi,
-                   "Run the selected cases that distribute (explicit) under mpirun -np N")
+                   "Run the selected cases marked distributable under mpirun -np N")
       ->check(CLI::PositiveNumber);
 
   auto* bench = app.add_subcommand(
