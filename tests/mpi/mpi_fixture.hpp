@@ -11,6 +11,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <signal.h>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -29,6 +30,18 @@ inline std::vector<std::string> appended(std::vector<std::string> args,
 inline nlohmann::json summary_of(const fs::path& dir) {
   std::ifstream in(dir / "summary.json");
   return nlohmann::json::parse(in);
+}
+
+/// The processes `pid` started (mpirun's ranks).
+inline std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> out;
+  for (const auto& task :
+       fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "task")) {
+    std::ifstream in(task.path() / "children");
+    for (pid_t child = 0; in >> child;)
+      out.push_back(child);
+  }
+  return out;
 }
 
 class Mpi : public Cli {
@@ -66,6 +79,29 @@ protected:
     EXPECT_EQ(a.at("steps"), b.at("steps"));
     EXPECT_EQ(a.at("particles"), b.at("particles"));
     EXPECT_EQ(a.at("frames"), b.at("frames"));
+  }
+
+  /// `mpirun -np 2 talus ARGS` writing into `out`, and SIGTERM to its second rank once the
+  /// run's timeseries.csv has `rows` lines (a scheduler signals a job's tasks; mpirun itself
+  /// passes a signal on only after a delay). The run must end interrupted.
+  void interrupt_one_rank(const std::vector<std::string>& args, const std::string& out, long rows) {
+    const std::vector<std::string> launch =
+        appended({"-np", "2", "--oversubscribe", TALUS_BINARY}, args);
+    Child child(launch, work(), root_, TALUS_MPIEXEC);
+    ASSERT_TRUE(child.started());
+    const fs::path series = work() / out / "timeseries.csv";
+    while (!fs::exists(series) ||
+           std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(series)), {},
+                      '\n') < rows) {
+      if (const auto done = child.poll())
+        FAIL() << "the run ended before the interrupt:\n" << done->describe();
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    const std::vector<pid_t> ranks = children_of(child.pid());
+    ASSERT_EQ(ranks.size(), 2u);
+    ::kill(ranks.back(), SIGTERM);
+    const Outcome stopped = child.wait();
+    ASSERT_EQ(summary_of(work() / out).at("status"), "interrupted") << stopped.describe();
   }
 
   /// The two results agree to `relative` of each field's and column's scale; a momentum that

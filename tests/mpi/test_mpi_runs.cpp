@@ -146,18 +146,6 @@ TEST_F(Mpi, AFailingRankStopsEveryRank) {
   }
 }
 
-/// The processes `pid` started (mpirun's ranks).
-std::vector<pid_t> children_of(pid_t pid) {
-  std::vector<pid_t> out;
-  for (const auto& task :
-       fs::directory_iterator(fs::path("/proc") / std::to_string(pid) / "task")) {
-    std::ifstream in(task.path() / "children");
-    for (pid_t child = 0; in >> child;)
-      out.push_back(child);
-  }
-  return out;
-}
-
 // SIGTERM to one rank mid-run (a scheduler signals a job's tasks; mpirun itself passes a signal
 // on only after a delay): every rank stops after the same step, rank 0 writes a checkpoint
 // holding the whole run in the serial order, and the run resumes on two ranks or on one, each
@@ -172,23 +160,7 @@ TEST_F(Mpi, AnInterruptedRunResumesOnAnyNumberOfRanks) {
   const Outcome serial = talus(args({"run", case_file, "--out", "serial"}));
   ASSERT_EQ(serial.exit_code, 0) << serial.describe();
 
-  const std::vector<std::string> launch = appended({"-np", "2", "--oversubscribe", TALUS_BINARY},
-                                                   args({"run", case_file, "--out", "killed"}));
-  Child child(launch, work(), root_, TALUS_MPIEXEC);
-  ASSERT_TRUE(child.started());
-  const fs::path series = work() / "killed" / "timeseries.csv";
-  while (!fs::exists(series) ||
-         std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(series)), {},
-                    '\n') < 150) {
-    if (const auto done = child.poll())
-      FAIL() << "the run ended before the interrupt:\n" << done->describe();
-    std::this_thread::sleep_for(std::chrono::microseconds(500));
-  }
-  const std::vector<pid_t> ranks = children_of(child.pid());
-  ASSERT_EQ(ranks.size(), 2u);
-  ::kill(ranks.back(), SIGTERM);
-  const Outcome stopped = child.wait();
-  ASSERT_EQ(summary_of(work() / "killed").at("status"), "interrupted") << stopped.describe();
+  interrupt_one_rank(args({"run", case_file, "--out", "killed"}), "killed", 150);
   ASSERT_TRUE(fs::exists(work() / "killed" / "checkpoints"));
   fs::copy(work() / "killed", work() / "killed_serial", fs::copy_options::recursive);
 
