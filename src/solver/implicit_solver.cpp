@@ -195,10 +195,10 @@ public:
   // rank's points on the unknowns it sees, then the ranks' shares added on the owners.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
     if (!comm_)
-      return assemble_share(whole_, serial_map_, du, &r, nullptr);
+      return assemble_share(whole_, whole_map_, du, &r, nullptr);
     Eigen::VectorXd mine;
     const bool admissible =
-        !comm_->any(!assemble_share(whole_, serial_map_, overlap_increment(du), &mine, nullptr));
+        !comm_->any(!assemble_share(whole_, whole_map_, overlap_increment(du), &mine, nullptr));
     if (admissible)
       distributed_->export_add(mine, r);
     return admissible;
@@ -206,13 +206,13 @@ public:
 
   const SparseMatrix& jacobian(const Eigen::VectorXd& du_owned) override {
     const Eigen::VectorXd du = overlap_increment(du_owned);
-    if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
+    if (!state_matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
     // Within a step the connectivity is fixed; a new step keeps the symbolic analysis when its
     // structure matches the last one built, whichever step or Newton attempt analysed it. A
     // distributed step always analyses anew: its unknowns' global numbering is the step's.
     bool built = false;
-    const SparseMatrix& K = share_tangent(whole_, serial_map_, built);
+    const SparseMatrix& K = share_tangent(whole_, whole_map_, built);
     if (built && (comm_ || !share_tangents_[0].assembler.same_structure_as_before()))
       ++pattern_generation_;
     return K;
@@ -242,16 +242,16 @@ public:
       // step holds): its map covers all of them, owned first, so local ids are the step's.
       std::vector<Index> nodes(at(step_.map.node_count()));
       std::iota(nodes.begin(), nodes.end(), Index{0});
-      serial_map_ = DofMap(whole_.index, std::move(nodes), Dim, step_.node_dof, step_.node_owner);
-      if (serial_map_.owned_count() != step_.owned_dof_count)
+      whole_map_ = DofMap(whole_.index, std::move(nodes), Dim, step_.node_dof, step_.node_owner);
+      if (whole_map_.owned_count() != step_.owned_dof_count)
         throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
       distributed_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
       distributed_->set_coordinates(unknown_positions());
     } else {
       const ParticleShare all[] = {whole_};
-      serial_map_ = dof_map(whole_, node_owners(all));
+      whole_map_ = dof_map(whole_, node_owners(all));
     }
-    if (serial_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
+    if (whole_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())
       linear_->set_near_null_space(
@@ -641,7 +641,7 @@ private:
 
   // Moves the points with the converged increment and stores their new state.
   void commit(const Eigen::VectorXd& du, double dt) {
-    if (!state_matches(whole_, du) && !update_trial_state(whole_, serial_map_, du))
+    if (!state_matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed at the converged increment");
     const AddSeconds timer(timings_.commit);
     auto& P = scene_.particles;
@@ -654,7 +654,7 @@ private:
       for_each_internal_force(p, [&](Index n, double w, const V& f) {
         for (int a = 0; a < Dim; ++a)
           internal[at(Dim * n + a)] += f[a];
-        dx += w * node_increment(serial_map_, n, du);
+        dx += w * node_increment(whole_map_, n, du);
       });
       const Mat3& F = trial_F_[s];
       const double J = F.determinant();
@@ -690,7 +690,7 @@ private:
     }
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
-    for_each_ghost_force(serial_map_, du,
+    for_each_ghost_force(whole_map_, du,
                          [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
     // The loads on a node are whole on every rank holding it: its owner subtracts them; the
     // internal forces are each rank's own, summed over the ranks below.
@@ -751,8 +751,9 @@ private:
   bool state_valid_ = false;  ///< trial_dF_, trial_F_, response_ hold state_share_ at state_du_
   ParticleShare state_share_; ///< the points the trial state was last evaluated for
   Eigen::VectorXd state_du_;
-  ParticleShare whole_; ///< every point: the serial solver's one share
-  DofMap serial_map_;   ///< whole_'s DOF map: local ids are the global ones
+  ParticleShare whole_; ///< this process's points: the serial solver's one share, or a rank's
+  /// whole_'s DOF map: local ids are the step's unknowns (serially also their global ids).
+  DofMap whole_map_;
   /// A share's tangent assembler and the step and points its structure was built for.
   struct ShareTangent {
     LatticeAssembler<Dim> assembler;

@@ -14,13 +14,14 @@
 
 namespace talus::detail {
 
-Teuchos::ParameterList muelu_parameters(int ranks) {
+Teuchos::ParameterList muelu_parameters(int ranks, long long rows) {
+  constexpr int kCoarseMaxSize = 1000;
   Teuchos::ParameterList p;
   p.set("verbosity", std::string("none"));
   p.set("multigrid algorithm", std::string("sa"));
   p.set("number of equations", 1);
   p.set("max levels", 10);
-  p.set("coarse: max size", 1000);
+  p.set("coarse: max size", kCoarseMaxSize);
   p.set("aggregation: type", std::string("uncoupled"));
   p.set("smoother: type", std::string("RELAXATION"));
   auto& smoother = p.sublist("smoother: params");
@@ -30,13 +31,23 @@ Teuchos::ParameterList muelu_parameters(int ranks) {
   // Amesos2 on a coarse matrix spread over the ranks gave CG an indefinite preconditioner, and
   // smoothing the coarse level instead (4 symmetric Gauss-Seidel sweeps) took CG from 17 to 59
   // iterations on the 3D cantilever (15.7k unknowns). Zoltan2 repartitions the coarse levels,
-  // by the unknowns' coordinates, to one rank per 4000 rows: 19 iterations there.
-  p.set("coarse: type", std::string("KLU2"));
-  p.set("repartition: enable", ranks > 1);
-  if (ranks > 1) {
+  // by the unknowns' coordinates, to one rank per 4000 rows: 19 iterations there. The fine
+  // level is never repartitioned, so a system small enough to be its own coarsest level is
+  // smoothed there instead (a few hundred unknowns: the iterations hardly matter).
+  const bool one_level = rows <= kCoarseMaxSize;
+  p.set("repartition: enable", ranks > 1 && !one_level);
+  if (ranks > 1 && !one_level) {
     p.set("repartition: partitioner", std::string("zoltan2"));
     p.set("repartition: start level", 1);
     p.set("repartition: min rows per proc", 4000);
+  }
+  if (ranks == 1 || !one_level) {
+    p.set("coarse: type", std::string("KLU2"));
+  } else {
+    p.set("coarse: type", std::string("RELAXATION"));
+    auto& coarse = p.sublist("coarse: params");
+    coarse.set("relaxation: type", std::string("Symmetric Gauss-Seidel"));
+    coarse.set("relaxation: sweeps", 4);
   }
   return p;
 }

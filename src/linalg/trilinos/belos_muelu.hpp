@@ -23,10 +23,10 @@ using matrix_type = Tpetra::CrsMatrix<SC, LO, GO, NO>;
 using MV = Tpetra::MultiVector<SC, LO, GO, NO>;
 using OP = Tpetra::Operator<SC, LO, GO, NO>;
 
-/// Smoothed aggregation for an elasticity-like operator; `ranks`: the processes the matrix is
-/// spread over. On several, the coarse levels are repartitioned onto fewer ranks by the rows'
+/// Smoothed aggregation for an elasticity-like operator of `rows` rows spread over `ranks`
+/// processes. On several, the coarse levels are repartitioned onto fewer ranks by the rows'
 /// coordinates, which the caller must add to the "user data" sublist as "Coordinates".
-Teuchos::ParameterList muelu_parameters(int ranks);
+Teuchos::ParameterList muelu_parameters(int ranks, long long rows);
 
 /// Solves A X = B (X holds the initial guess) with Belos CG (`cg`) or GMRES, the
 /// preconditioner on the left for CG and on the right for GMRES (so GMRES's residual stays the

@@ -134,10 +134,11 @@ public:
     matrix_->doExport(*overlap_matrix_, *exporter_, Tpetra::ADD);
     matrix_->fillComplete(owned_map_, owned_map_);
     try {
-      Teuchos::ParameterList params = muelu_parameters(comm_->getSize());
+      Teuchos::ParameterList params = muelu_parameters(
+          comm_->getSize(), static_cast<long long>(owned_map_->getGlobalNumElements()));
       if (auto modes = owned_rows(near_null_space_); !modes.is_null())
         params.sublist("user data").set("Nullspace", modes);
-      if (comm_->getSize() > 1) {
+      if (params.get<bool>("repartition: enable")) {
         auto xyz = owned_rows(coordinates_);
         if (xyz.is_null())
           throw std::logic_error("no coordinates for MueLu's repartitioning (set_coordinates)");

@@ -126,7 +126,7 @@ public:
         ifpack_->compute();
         prec_ = ifpack_;
       } else {
-        Teuchos::ParameterList params = muelu_parameters(comm_->getSize());
+        Teuchos::ParameterList params = muelu_parameters(comm_->getSize(), rows_.rows());
         if (near_null_space_.rows() == rows_.rows() && near_null_space_.cols() > 0)
           params.sublist("user data").set("Nullspace", null_space_vectors());
         prec_ = MueLu::CreateTpetraPreconditioner(Teuchos::rcp_implicit_cast<OP>(matrix_), params);
