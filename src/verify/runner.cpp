@@ -92,10 +92,9 @@ std::vector<std::string> distributable_selection(const VerifyOptions& options) {
     if (selected(vc, options))
       (vc.distributable ? names : refused).push_back(vc.name);
   if (!options.only.empty() && !refused.empty())
-    throw InputError(
-        {"--case", 0, 0, ""},
-        fmt::format("{} do(es) not run distributed (not marked distributable)",
-                    fmt::join(refused, ", ")));
+    throw InputError({"--case", 0, 0, ""},
+                     fmt::format("{} do(es) not run distributed (not marked distributable)",
+                                 fmt::join(refused, ", ")));
   if (names.empty())
     throw InputError({"--mpi", 0, 0, ""}, "no selected verification case runs distributed");
   return names;

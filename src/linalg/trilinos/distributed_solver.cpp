@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 
 namespace talus::detail {
 namespace {
@@ -99,11 +100,8 @@ public:
       widest = std::max(widest, static_cast<std::size_t>(rows_.outerIndexPtr()[r + 1] -
                                                          rows_.outerIndexPtr()[r]));
     auto graph = Teuchos::rcp(new graph_type(overlap_map_, overlap_map_, widest));
-    for (Eigen::Index r = 0; r < n; ++r) {
-      const int begin = rows_.outerIndexPtr()[r], end = rows_.outerIndexPtr()[r + 1];
-      const std::vector<LO> cols(rows_.innerIndexPtr() + begin, rows_.innerIndexPtr() + end);
-      graph->insertLocalIndices(static_cast<LO>(r), Teuchos::ArrayView<const LO>(cols));
-    }
+    for (Eigen::Index r = 0; r < n; ++r)
+      graph->insertLocalIndices(static_cast<LO>(r), columns_of(r));
     graph->fillComplete(owned_map_, owned_map_);
     overlap_matrix_ =
         Teuchos::rcp(new matrix_type(Teuchos::rcp_implicit_cast<const graph_type>(graph)));
@@ -210,18 +208,24 @@ private:
         Eigen::Map<const Eigen::VectorXd>(data.getRawPtr(), static_cast<Eigen::Index>(data.size()));
   }
 
+  /// Row r's columns of rows_ (local ids; Eigen's and Tpetra's local ordinals are both int, so
+  /// a view, not a copy per row and iterate).
+  Teuchos::ArrayView<const LO> columns_of(Eigen::Index r) const {
+    static_assert(std::is_same_v<LO, int>);
+    const int begin = rows_.outerIndexPtr()[r], end = rows_.outerIndexPtr()[r + 1];
+    return {rows_.innerIndexPtr() + begin, end - begin};
+  }
+
   // rows_'s values into the overlap matrix (same pattern, local ids).
   void fill_overlap() {
     if (overlap_matrix_->isFillComplete())
       overlap_matrix_->resumeFill();
     for (Eigen::Index r = 0; r < rows_.rows(); ++r) {
       const int begin = rows_.outerIndexPtr()[r], end = rows_.outerIndexPtr()[r + 1];
-      if (begin == end)
-        continue;
-      const std::vector<LO> cols(rows_.innerIndexPtr() + begin, rows_.innerIndexPtr() + end);
-      overlap_matrix_->replaceLocalValues(
-          static_cast<LO>(r), Teuchos::ArrayView<const LO>(cols),
-          Teuchos::ArrayView<const SC>(rows_.valuePtr() + begin, end - begin));
+      if (begin != end)
+        overlap_matrix_->replaceLocalValues(
+            static_cast<LO>(r), columns_of(r),
+            Teuchos::ArrayView<const SC>(rows_.valuePtr() + begin, end - begin));
     }
     overlap_matrix_->fillComplete(owned_map_, owned_map_);
   }

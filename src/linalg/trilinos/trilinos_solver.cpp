@@ -63,7 +63,7 @@ public:
     factorized_ = false;
     prec_ = Teuchos::null;
     ifpack_ = Teuchos::null;
-    rows_ = A; // CSC -> CSR copy: Tpetra is filled by rows; also used for the true residual
+    rows_ = A; // CSC -> CSR copy: Tpetra is filled by rows
     rows_.makeCompressed();
     const auto n = static_cast<Tpetra::global_size_t>(A.rows());
 
@@ -228,7 +228,7 @@ private:
   Teuchos::RCP<matrix_type> matrix_;
   Teuchos::RCP<ifpack_type> ifpack_;
   Teuchos::RCP<OP> prec_;
-  RowMajorMatrix rows_;             ///< copy of the last A (pattern check, filling, true residual)
+  RowMajorMatrix rows_;             ///< copy of the last A (pattern check, filling)
   Eigen::MatrixXd near_null_space_; ///< per unknown and mode (MueLu), empty: constants only
   bool analyzed_ = false;
   bool factorized_ = false;
