@@ -10,6 +10,7 @@
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/parallel/communicator.hpp"
 #include "talus/post/render.hpp"
+#include "talus/solver/fos_refinement.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/solver/strength_reduction.hpp"
 #include "talus/verify/bench.hpp"
@@ -125,8 +126,22 @@ int run_command(const std::string& case_file, const std::vector<std::string>& ov
 }
 
 int fos_command(const std::string& case_file, const std::vector<std::string>& overrides,
-                const FosOptions& options) {
+                const FosOptions& options, int refine) {
   const CaseSpec spec = read_case_file(case_file, overrides);
+  if (refine > 1) {
+    const FosRefinement r = refine_factor_of_safety(spec, options, refine);
+    if (!Communicator::world().root())
+      return r.exit_code;
+    for (const FosLevel& level : r.levels)
+      fmt::print("{}: h = {:g}: factor of safety {:.4f} (bracket [{:.4f}, {:.4f}]{}), {} "
+                 "Newton iterations, {:.1f} s\n",
+                 spec.name, level.cell_size, level.search.fos.value(), level.search.fos.lower,
+                 level.search.fos.upper,
+                 level.search.fos.upper_undecided ? ", upper undecided" : "",
+                 level.search.newton_iterations, level.search.wall_seconds);
+    fmt::print("{}: {}\n", spec.name, r.message);
+    return r.exit_code;
+  }
   const FosRunResult r = run_factor_of_safety(spec, options);
   if (!Communicator::world().root())
     return r.exit_code;
@@ -231,6 +246,12 @@ int main(int argc, char** argv) {
       ->needs(fos_resume);
   fos->add_option("--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
+  int refine = 1;
+  fos->add_option("--refine", refine,
+                  "Search on N grids, the case's cell size h, then h/2, ...: the factor against "
+                  "h (refinement.csv, refinement.png) and its observed order")
+      ->check(CLI::Range(1, 6))
+      ->excludes(fos_resume);
 
   auto* adapt = app.add_subcommand(
       "adapt", "Coarse pre-run, finer points where it yielded or distorted, then the full run");
@@ -349,7 +370,7 @@ int main(int argc, char** argv) {
       options.threads = threads;
       options.resume = !resume_dir.empty();
       options.accept_changes = accept_changes;
-      return fos_command(case_file, overrides, options);
+      return fos_command(case_file, overrides, options, refine);
     }
     if (*adapt) {
       adapt_options.out_dir = adapt_out;

@@ -240,7 +240,8 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
 
 StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
   const Map m(*this, it,
-              {"lower", "upper", "tolerance", "max_trials", "probe", "displacement_limit", "mode"});
+              {"lower", "upper", "tolerance", "max_trials", "probe", "min_stiffness",
+               "displacement_limit", "mode"});
   StrengthReductionSpec s;
   s.where = locate(m.self());
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
@@ -276,6 +277,14 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
                    [&](const ProbeSpec& p) { return p.name == s.probe; }))
     fail(probe,
          "no probe named '" + shown(s.probe) + "' (the crest probe must be listed in 'probes')");
+  if (m.has("min_stiffness")) {
+    const Item stiffness = m["min_stiffness"];
+    s.min_stiffness = positive(stiffness);
+    if (s.min_stiffness >= 1)
+      fail(stiffness, fmt::format("must be below 1 (got {:g}): the current stiffness starts at 1 "
+                                  "and falls as the slope yields",
+                                  s.min_stiffness));
+  }
   if (m.has("displacement_limit"))
     s.displacement_limit = positive(m["displacement_limit"]);
   if (m.has("mode"))

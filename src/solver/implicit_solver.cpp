@@ -146,6 +146,8 @@ public:
     timings_.factorization += report.seconds_factorization;
     timings_.solve += report.seconds_solve;
     if (report.converged) {
+      if (measure_compliance_ && !dynamic_ && report.factorizations > 0)
+        load_compliance_ = compliance_under_load();
       commit(overlap_increment(du), dt);
       ramp_committed_ = ramp_end;
     }
@@ -159,6 +161,8 @@ public:
   FaceReactions reactions() const override { return reactions_; }
   std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
   std::string linear_solver() const override { return linear_->name(); }
+  void measure_load_compliance() override { measure_compliance_ = true; }
+  double load_compliance() const override { return load_compliance_; }
   Index active_nodes() const override { return step_.global_node_count; }
   Index unknowns() const override { return step_.global_dof_count; }
   ImplicitTimings timings() const override { return timings_; }
@@ -317,6 +321,25 @@ private:
     return 4.0 / (dt_ * dt_) * (du - dt_ * step_.grid_v[at(dof)]) - step_.grid_a[at(dof)];
   }
   Index dof_of(Index node, int a) const { return step_.dof_of(node, a); }
+
+  /// f . K^-1 f / |f|^2 for the step's external load f (owned unknowns), with the factorisation
+  /// Newton used last: its tangent is within the convergence tolerance of the converged state's.
+  double compliance_under_load() {
+    const AddSeconds timer(timings_.solve);
+    const Eigen::VectorXd f = step_.external.head(size());
+    Eigen::VectorXd z;
+    try {
+      linear_->solve(f, z);
+    } catch (const NumericalError&) {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    double fz = f.dot(z), ff = f.squaredNorm();
+    if (comm_) {
+      fz = comm_->sum(fz);
+      ff = comm_->sum(ff);
+    }
+    return ff > 0 ? fz / ff : std::numeric_limits<double>::quiet_NaN();
+  }
 
   /// The increment on every unknown this process sees, from Newton's (a distributed run's
   /// owned unknowns: the ghosts' values come from their owners).
@@ -774,6 +797,8 @@ private:
   bool gravity_ramped_ = true;     ///< gravity follows the load factor (no geostatic stress)
   double ramp_committed_ = 0;      ///< prescribed-displacement fraction reached so far
   bool line_search_first_ = false; ///< the last step converged with the line search
+  bool measure_compliance_ = false;
+  double load_compliance_ = std::numeric_limits<double>::quiet_NaN();
   std::vector<Vec3> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;

@@ -1,10 +1,11 @@
 // Strength reduction in one run (strength_reduction.mode: incremental). The case is loaded at
 // F = lower, as a trial would be; then quasi-static stages move F linearly, from lower to upper
-// and on by half while the slope stands, each point keeping its stress and plastic history. A
-// step that Newton cannot converge (at a quarter of the nominal step) or after which the crest
-// has moved beyond the limit ends the run: the factor of safety lies between the factor of the
-// last standing step and the factor of the one that failed. The nominal step moves F by at
-// most `tolerance`, so that bracket is within the tolerance by construction.
+// and on by half while the slope stands, each point keeping its stress and plastic history. The
+// first step after which the current stiffness is below min_stiffness (or the crest beyond its
+// limit) ends the run: the factor of safety lies between the factor of the last standing step
+// and that one's. The nominal step moves F by at most `tolerance`, so that bracket is within
+// the tolerance by construction. A step Newton cannot converge (at a quarter of the nominal
+// step) also ends it, as undecided, while the slope is still stiff.
 //
 // Why: independent trials load the slope from scratch for every factor, and those that fail
 // spend most of the search's time descending their cut-back ladders (Griffiths & Lane's slope:
@@ -97,18 +98,9 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
   options.out_dir = dir;
   options.threads = search.threads;
   options.progress = true; // one long run: the user sees it advance
-  if (settings.displacement_limit)
-    options.stop_after_step = [&](std::span<const ProbeState> probes,
-                                  double time) -> std::optional<std::string> {
-      const auto crest = std::find_if(probes.begin(), probes.end(), [&](const ProbeState& p) {
-        return p.name == settings.probe;
-      });
-      const double moved = (crest->current - crest->initial).norm();
-      if (moved <= *settings.displacement_limit)
-        return std::nullopt;
-      return fmt::format("crest moved {:.4g} m > limit {:g} m at F = {:.6g}", moved,
-                         *settings.displacement_limit, path.at(time));
-    };
+  options.measure_stiffness = true;
+  options.stop_after_step = failure_watch(
+      settings, [&path](double time) { return fmt::format("at F = {:.6g}", path.at(time)); });
   FactorOfSafety fos;
   StrengthTrial last;
   RunResult run;
@@ -117,6 +109,7 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
   } catch (const InputError& e) { // the reduced strength refused the initial stress
     last.factor = settings.lower;
     last.failed = true;
+    last.end = TrialEnd::InitialStress;
     last.reason = fmt::format("failed before the first step: {}", e.what());
     fos.trials.push_back(last);
     fos.upper = settings.lower;
@@ -129,6 +122,8 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
   const auto& time = series.column("time");
   const auto& x = series.column(settings.probe + ".x");
   const auto& y = series.column(settings.probe + ".y");
+  const auto& stiffness = series.column("current_stiffness");
+  StiffnessPath stiffness_path; // against F, from the end of the loading
   for (std::size_t r = 0; r < series.rows(); ++r) {
     if (time[r] < path.load_end * (1.0 - 1e-12) && r + 1 < series.rows())
       continue; // the loading's intermediate steps
@@ -138,8 +133,12 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
     step.load_steps = 1;
     step.crest_dx = x[r] - x.front();
     step.crest_dy = y[r] - y.front();
-    step.reason = fmt::format("stood: crest moved {:.4g} m", step.crest_displacement());
+    step.current_stiffness = stiffness[r];
+    step.reason = fmt::format("stood: current stiffness {:.3g}, crest moved {:.4g} m",
+                              step.current_stiffness, step.crest_displacement());
     fos.trials.push_back(step);
+    stiffness_path.control.push_back(step.factor);
+    stiffness_path.stiffness.push_back(step.current_stiffness);
   }
   const auto stat = [&](const char* key) {
     const auto it = run.extra.find(key);
@@ -159,12 +158,14 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
     return fos;
   }
   if (interrupted) {
+    end.end = TrialEnd::Interrupted;
     end.reason = "interrupted";
     fos.message = "interrupted";
     return fos;
   }
   if (!loaded) {
     end.failed = true;
+    end.end = stat("newton_stalled") > 0 ? TrialEnd::NewtonBudget : TrialEnd::Numerical;
     end.load_reached = run.final_time / path.load_end;
     end.reason =
         fmt::format("failed during the loading at F = {:g}: {}", settings.lower, run.message);
@@ -174,8 +175,10 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
                               settings.lower);
     return fos;
   }
-  if (run.status == "stopped") { // the crest limit after the last converged step
+  if (run.status == "stopped") { // failure_watch after the last converged step
     end.failed = true;
+    end.end = end.current_stiffness < settings.min_stiffness ? TrialEnd::Stiffness
+                                                             : TrialEnd::Displacement;
     end.reason = "failed: " + run.message;
     fos.upper = end.factor;
     fos.lower = fos.trials.size() > 1 ? fos.trials[fos.trials.size() - 2].factor : settings.lower;
@@ -186,7 +189,24 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
     end.load_steps = 1;
     failed.failed = true;
     failed.factor = path.at(run.final_time + path.min_step_after(run.final_time));
-    failed.reason = "failed: " + run.message;
+    const auto mechanism = stat("newton_stalled") > 0
+                               ? stall_mechanism(settings, stiffness_path, failed.factor, 1.0, "")
+                               : std::nullopt;
+    if (mechanism) {
+      failed.end = TrialEnd::LimitPoint;
+      failed.reason =
+          fmt::format("failed: Newton did not converge beyond F = {:.6g}, where {}: a mechanism",
+                      end.factor, *mechanism);
+    } else if (stat("newton_stalled") > 0) {
+      failed.end = TrialEnd::NewtonBudget;
+      failed.reason = fmt::format(
+          "undecided, counted as failed: Newton did not converge at the smallest step with the "
+          "current stiffness {:.3g} above min_stiffness {:g} (no mechanism yet): {}",
+          end.current_stiffness, settings.min_stiffness, run.message);
+    } else {
+      failed.end = TrialEnd::Numerical;
+      failed.reason = "failed: " + run.message;
+    }
     fos.lower = end.factor;
     fos.upper = failed.factor;
     fos.trials.push_back(failed);

@@ -3,6 +3,7 @@
 #include "talus/core/add_seconds.hpp"
 #include "talus/core/errors.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <fmt/format.h>
 #include <kinsol/kinsol.h>
@@ -33,6 +34,7 @@ struct Driver {
   NewtonReport report;
   const SparseMatrix* jacobian = nullptr;
   std::exception_ptr error;
+  bool stagnated = false; ///< stopped past the iterations every attempt gets, without progress
   std::string kinsol_message;
   Eigen::VectorXd r;
 };
@@ -52,10 +54,26 @@ int residual_callback(N_Vector u, N_Vector f, void* data) {
   }
 }
 
+// Past the iterations every attempt gets, an attempt goes on only while its residual keeps
+// falling, by a quarter over a window of iterates (the same decision on every rank: the norms
+// are global). A line search that crawls (5 % an iterate near a limit point) goes on; one that
+// stands still stops.
+bool stagnates(const std::vector<double>& history, const NewtonOptions& options) {
+  const auto k = static_cast<int>(history.size()) - 1;
+  if (k < options.max_iterations)
+    return false;
+  const double before = history[static_cast<std::size_t>(std::max(0, k - options.progress_window))];
+  return !(history.back() <= 0.75 * before);
+}
+
 int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, N_Vector) {
   auto& d = *static_cast<Driver*>(data);
   try {
     d.report.residual_history.push_back(N_VMaxNorm(fu) / d.options.residual_scale); // all ranks
+    if (stagnates(d.report.residual_history, d.options)) {
+      d.stagnated = true;
+      return -1; // ends KINSol
+    }
     d.jacobian = &d.system.jacobian(view(u));
     return 0;
   } catch (...) {
@@ -198,7 +216,7 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
   const auto n = static_cast<sunindextype>(system.size());
   if (x.size() != n)
     throw std::invalid_argument("solve_newton: initial guess has the wrong size");
-  Driver d{system, linear_solver, options, {}, nullptr, nullptr, {}, {}};
+  Driver d{system, linear_solver, options, {}, nullptr, nullptr, false, {}, {}};
   KinsolSession k(system, d);
   view(k.u) = x;
   N_VConst(1.0 / options.step_scale, k.u_scale);
@@ -210,7 +228,8 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
   check(KINSetLinearSolver(k.kinsol, k.ls, k.J), "KINSetLinearSolver");
   check(KINSetJacFn(k.kinsol, jacobian_callback), "KINSetJacFn");
   check(KINSetMaxSetupCalls(k.kinsol, 1), "KINSetMaxSetupCalls"); // exact Newton: new J each step
-  check(KINSetNumMaxIters(k.kinsol, options.max_iterations), "KINSetNumMaxIters");
+  check(KINSetNumMaxIters(k.kinsol, std::max(1, options.extension) * options.max_iterations),
+        "KINSetNumMaxIters");
   check(KINSetFuncNormTol(k.kinsol, options.residual_tolerance), "KINSetFuncNormTol");
   check(KINSetScaledStepTol(k.kinsol, options.step_tolerance), "KINSetScaledStepTol");
   check(KINSetMaxNewtonStep(k.kinsol, 1e300), "KINSetMaxNewtonStep"); // loads set the scale
@@ -229,7 +248,11 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
     x = view(k.u);
     return d.report;
   }
-  d.report.message = d.kinsol_message.empty()
+  d.report.message = d.stagnated
+                         ? fmt::format("no progress after {} iterations (the residual fell by less "
+                                       "than a quarter over the last {})",
+                                       iterations, options.progress_window)
+                     : d.kinsol_message.empty()
                          ? fmt::format("KINSOL flag {} after {} iterations", flag, iterations)
                          : d.kinsol_message;
   // A failed factorisation is a Newton failure the load stepper may recover from by cutting

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fmt/format.h>
 #include <functional>
@@ -230,7 +231,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
                                     resumed ? static_cast<Index>(resumed->frames.size()) : 0)
       : resumed     ? ResultsWriter(result.out_dir, run_detail::metadata_of(scene), resumed->frames)
                     : ResultsWriter(result.out_dir, run_detail::metadata_of(scene));
-  const std::vector<std::string> columns = run_detail::timeseries_columns(scene);
+  const std::vector<std::string> columns =
+      run_detail::timeseries_columns(scene, options.measure_stiffness);
   std::optional<TimeSeriesWriter> series_file;
   if (ranks.root())
     series_file.emplace(result.out_dir / "timeseries.csv", columns, resumed.has_value());
@@ -249,6 +251,9 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
   Recorder<Dim> recorder{scene, writer, series};
   LoopState state;
   state.stop_after_step = options.stop_after_step;
+  state.measure_stiffness = options.measure_stiffness;
+  if (options.measure_stiffness)
+    recorder.current_stiffness = &state.current_stiffness;
   result.status = "completed";
   result.particles = run_detail::point_count(scene);
   double stage_start_time = 0;
@@ -265,6 +270,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     state.implicit_dt = r.implicit_dt;
     state.easy_steps = r.easy_steps;
     state.continuation = r.continuation;
+    state.reference_compliance = r.reference_compliance;
+    state.current_stiffness = r.current_stiffness;
     stage_start_time = r.stage_start_time;
     strength_factor = r.strength_factor;
     wall_before = r.wall_seconds;
@@ -321,6 +328,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     p.implicit_dt = state.implicit_dt;
     p.easy_steps = state.easy_steps;
     p.continuation = state.continuation;
+    p.reference_compliance = state.reference_compliance;
+    p.current_stiffness = state.current_stiffness;
     if (watch)
       p.watch = watch->memory();
     p.extra = result.extra;
@@ -459,6 +468,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     state.checkpoint = nullptr;
     state.stage_totals = nullptr;
     result.status = "numerical_failure";
+    if (dynamic_cast<const NewtonStall*>(&err))
+      result.extra["newton_stalled"] = 1.0;
     result.message =
         fmt::format("step {}, t = {:g}{}: {}", state.step + 1, stage_start_time + state.t,
                     staged ? fmt::format(" (stage '{}')", current->name) : "", err.what());
@@ -468,6 +479,8 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
     stage_start_time += state.t;
     state.t = 0;
   }
+  if (std::isfinite(state.current_stiffness))
+    result.extra["current_stiffness"] = state.current_stiffness;
   if (out.stress_recovery || out.voxels)
     result.extra["seconds_post_processing"] = recorder.post_seconds;
   // With splitting, `particles` is the count at the end (particles_initial the one at t = 0).

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 namespace talus::run_detail {
@@ -21,7 +23,15 @@ namespace {
 constexpr std::size_t kKept = 2;
 
 /// The entry's layout version: a checkpoint of another layout is refused, not misread.
-constexpr int kProgressVersion = 1;
+constexpr int kProgressVersion = 2;
+
+// JSON has no NaN: a value not measured yet is null.
+json finite_or_null(double x) {
+  return std::isfinite(x) ? json(x) : json();
+}
+double number_or_nan(const json& j) {
+  return j.is_null() ? std::numeric_limits<double>::quiet_NaN() : j.get<double>();
+}
 
 json frame_json(const ResultsWriter::FrameRecord& f) {
   std::vector<int> fields;
@@ -122,6 +132,8 @@ void put_progress(CheckpointWriter& out, const RunProgress& p) {
   j["easy_steps"] = p.easy_steps;
   j["prescribed_fraction"] = p.continuation.prescribed_fraction;
   j["line_search_first"] = p.continuation.line_search_first;
+  j["reference_compliance"] = finite_or_null(p.reference_compliance);
+  j["current_stiffness"] = finite_or_null(p.current_stiffness);
   j["peak_kinetic"] = p.watch.peak_kinetic;
   j["quiet_since"] = p.watch.quiet_since ? json(*p.watch.quiet_since) : json();
   j["extra"] = p.extra;
@@ -167,6 +179,8 @@ RunProgress read_progress(const CheckpointReader& in) {
   p.easy_steps = j.at("easy_steps");
   p.continuation.prescribed_fraction = j.at("prescribed_fraction");
   p.continuation.line_search_first = j.at("line_search_first");
+  p.reference_compliance = number_or_nan(j.at("reference_compliance"));
+  p.current_stiffness = number_or_nan(j.at("current_stiffness"));
   p.watch.peak_kinetic = j.at("peak_kinetic");
   if (!j.at("quiet_since").is_null())
     p.watch.quiet_since = j.at("quiet_since").get<double>();

@@ -8,6 +8,7 @@
 #include "talus/solver/stage_watch.hpp"
 
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,6 +36,10 @@ struct RunProgress {
   double implicit_dt = 0;          ///< implicit: the current load step (0: time.dt)
   int easy_steps = 0;              ///< implicit: easy steps in a row
   ImplicitSolver::Continuation continuation{};
+  /// RunOptions::measure_stiffness: the reference compliance and the current stiffness (NaN:
+  /// none yet).
+  double reference_compliance = std::numeric_limits<double>::quiet_NaN();
+  double current_stiffness = std::numeric_limits<double>::quiet_NaN();
   StageWatch::Memory watch{};
   // --- what it has written and counted -------------------------------------------------------
   std::map<std::string, double> extra; ///< summary.json's numbers so far

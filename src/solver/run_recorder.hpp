@@ -63,7 +63,9 @@ template <int Dim> std::vector<std::pair<int, int>> probe_stress_components() {
     return {{0, 0}, {1, 1}, {0, 1}, {2, 2}};
 }
 
-template <int Dim> std::vector<std::string> timeseries_columns(const Scene<Dim>& scene) {
+/// `stiffness`: the run measures the current stiffness (RunOptions::measure_stiffness).
+template <int Dim>
+std::vector<std::string> timeseries_columns(const Scene<Dim>& scene, bool stiffness) {
   std::vector<std::string> cols = {
       "time", "step", "dt", "kinetic_energy", "strain_energy", "gravity_energy", "total_energy"};
   for (const char* a : axes<Dim>())
@@ -86,6 +88,8 @@ template <int Dim> std::vector<std::string> timeseries_columns(const Scene<Dim>&
     for (const auto& [i, j] : probe_stress_components<Dim>())
       cols.push_back(fmt::format("{}.s{}{}", name, "xyz"[i], "xyz"[j]));
   }
+  if (stiffness)
+    cols.push_back("current_stiffness");
   return cols;
 }
 
@@ -134,7 +138,7 @@ template <int Dim>
 std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
                                    const FaceReactions& reactions,
                                    const std::vector<Vec3>& prescribed, double time, Index step,
-                                   double dt, std::size_t stage) {
+                                   double dt, std::size_t stage, const double* stiffness) {
   std::vector<double> row = {time,      static_cast<double>(step),       dt, e.kinetic, e.strain,
                              e.gravity, e.kinetic + e.strain + e.gravity};
   for (int d = 0; d < Dim; ++d)
@@ -159,6 +163,8 @@ std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
     for (const auto& [i, j] : probe_stress_components<Dim>())
       row.push_back(probe.stress(i, j));
   }
+  if (stiffness)
+    row.push_back(*stiffness);
   return row;
 }
 
@@ -181,6 +187,8 @@ template <int Dim> struct Recorder {
   std::optional<StressRecovery<Dim>> recovery{}; ///< made on the first frame, reused after
   Voxels<Dim> voxels{};
   std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
+  /// The current stiffness of a run that measures it (the time series' last column), or null.
+  const double* current_stiffness = nullptr;
 
   /// Writes the current state as a frame, with the post-processing fields the case asks for:
   /// they are computed here, on output frames only.
@@ -244,7 +252,7 @@ template <int Dim> struct Recorder {
   void append_row(const Energies& e, const FaceReactions& reactions,
                   const std::vector<Vec3>& prescribed, double t, Index step, double dt) {
     series.append(timeseries_row<Dim>(scene, e, reactions, prescribed, stage_start_time + t, step,
-                                      dt, stage));
+                                      dt, stage, current_stiffness));
   }
 
   /// Stops the run (StateGuardError) when the guard found something; `when` says at which

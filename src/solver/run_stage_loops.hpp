@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -44,8 +45,13 @@ struct LoopState {
   Index step = 0;             ///< steps of the whole run
   Index stage_first_step = 0; ///< `step` when the current stage began
   /// RunOptions::stop_after_step, and what it said when it ended the run.
-  std::function<std::optional<std::string>(std::span<const ProbeState>, double)> stop_after_step{};
+  std::function<std::optional<std::string>(const StepState&)> stop_after_step{};
   std::optional<std::string> stopped{};
+  /// RunOptions::measure_stiffness: the reference compliance (the run's first measured step)
+  /// and the last step's current stiffness, reference / its compliance.
+  bool measure_stiffness = false;
+  double reference_compliance = std::numeric_limits<double>::quiet_NaN();
+  double current_stiffness = std::numeric_limits<double>::quiet_NaN();
   // --- checkpoints ---
   /// Called after each completed step and when an interrupt is noticed: writes a checkpoint
   /// when one is due (run_case_in decides).
@@ -75,8 +81,21 @@ template <int Dim> std::vector<ProbeState> probe_states(const Scene<Dim>& scene)
 
 /// Asks RunOptions::stop_after_step, if the run has one, after a completed step.
 template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double time) {
-  if (s.stop_after_step)
-    s.stopped = s.stop_after_step(probe_states(scene), time);
+  if (!s.stop_after_step)
+    return;
+  const std::vector<ProbeState> probes = probe_states(scene);
+  s.stopped = s.stop_after_step({probes, time, s.current_stiffness});
+}
+
+/// The current stiffness after a converged quasi-static step whose compliance under its load
+/// is `compliance` (NaN: not measured, the last value stands); the first one measured is the
+/// reference (Bergan, Horrigmoe, Krakeland & Soreide 1978).
+inline void note_compliance(LoopState& s, double compliance) {
+  if (!std::isfinite(compliance) || compliance <= 0)
+    return;
+  if (!std::isfinite(s.reference_compliance))
+    s.reference_compliance = compliance;
+  s.current_stiffness = s.reference_compliance / compliance;
 }
 
 inline void check_limits(const TimeSpec& time, const LoopState& s) {
@@ -286,10 +305,12 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
                   StageStrength<Dim>& strength, bool loads_ramp,
                   const std::filesystem::path& dump_tangent) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
+  if (s.measure_stiffness)
+    solver->measure_load_compliance();
   result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
   const double dt0 = *time.dt;
-  const double min_dt = time.min_dt.value_or(dt0 / 1024.0);
+  const double min_dt = time.smallest_step();
   double dt = dt0;
   int easy_steps = 0;
   const bool resumed = s.resumed_mid_stage;
@@ -386,7 +407,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
         ++cutbacks;
         easy_steps = 0;
         if (step_dt <= min_dt * (1.0 + 1e-12))
-          throw NumericalError(fmt::format(
+          throw NewtonStall(fmt::format(
               "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}{}): "
               "{}",
               step_dt, s.t, t_end,
@@ -403,6 +424,8 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       max_iterations = std::max<Index>(max_iterations, r.iterations);
       s.t = t_end;
       ++s.step;
+      if (s.measure_stiffness && !dynamic)
+        note_compliance(s, solver->load_compliance());
       const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
       ask_stop(s, scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);

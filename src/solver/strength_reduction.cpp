@@ -44,22 +44,6 @@ std::string quoted(const std::string& text) {
   return out + "\"";
 }
 
-/// The crest criterion as a run's stop_after_step: the probe's displacement from its initial
-/// position beyond the limit ends the trial at that load step.
-std::function<std::optional<std::string>(std::span<const ProbeState>, double)>
-crest_limit_stop(const StrengthReductionSpec& settings, double end_time) {
-  return [&settings, end_time](std::span<const ProbeState> probes,
-                               double time) -> std::optional<std::string> {
-    const auto crest = std::find_if(probes.begin(), probes.end(),
-                                    [&](const ProbeState& p) { return p.name == settings.probe; });
-    const double moved = (crest->current - crest->initial).norm();
-    if (moved <= *settings.displacement_limit)
-      return std::nullopt;
-    return fmt::format("crest moved {:.4g} m > limit {:g} m at load {:.4g}", moved,
-                       *settings.displacement_limit, time / end_time);
-  };
-}
-
 /// One trial: the case with reduced strength, run quietly into `dir`; what it ended with.
 StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir,
                         const FosOptions& search, bool& interrupted) {
@@ -69,8 +53,10 @@ StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir
   options.out_dir = dir;
   options.threads = search.threads;
   options.progress = false;
-  if (settings.displacement_limit)
-    options.stop_after_step = crest_limit_stop(settings, spec.time.end_time);
+  options.measure_stiffness = true;
+  const double end_time = spec.time.end_time;
+  options.stop_after_step = failure_watch(
+      settings, [end_time](double time) { return fmt::format("at load {:.4g}", time / end_time); });
   RunResult run;
   try {
     run = run_or_resume_trial(reduce_strength(spec, factor), options, search);
@@ -79,6 +65,7 @@ StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir
     StrengthTrial trial;
     trial.factor = factor;
     trial.failed = true;
+    trial.end = TrialEnd::InitialStress;
     trial.reason = fmt::format("failed before the first step: {}", e.what());
     trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return trial;
@@ -88,20 +75,29 @@ StrengthTrial run_trial(const CaseSpec& spec, double factor, const fs::path& dir
   const CsvTable series = read_csv(dir / "timeseries.csv");
   const auto& x = series.column(settings.probe + ".x");
   const auto& y = series.column(settings.probe + ".y");
-  return classify_trial(settings, factor, run, spec.time.end_time, x.back() - x.front(),
-                        y.back() - y.front());
+  StiffnessPath path;
+  const auto& time = series.column("time");
+  const auto& stiffness = series.column("current_stiffness");
+  for (std::size_t r = 0; r < series.rows(); ++r)
+    if (std::isfinite(stiffness[r])) {
+      path.control.push_back(time[r] / end_time);
+      path.stiffness.push_back(stiffness[r]);
+    }
+  return classify_trial(settings, factor, run, end_time, x.back() - x.front(), y.back() - y.front(),
+                        path, spec.time.smallest_step() / end_time);
 }
 
 void write_fos_csv(const fs::path& file, const FactorOfSafety& fos) {
   std::ofstream out(file);
-  out << "trial,factor,failed,load_reached,crest_dx,crest_dy,crest_displacement,load_steps,"
-         "newton_iterations,cutbacks,seconds,reason\n";
+  out << "trial,factor,failed,criterion,load_reached,current_stiffness,crest_dx,crest_dy,"
+         "crest_displacement,load_steps,newton_iterations,cutbacks,seconds,reason\n";
   for (std::size_t k = 0; k < fos.trials.size(); ++k) {
     const StrengthTrial& t = fos.trials[k];
-    out << fmt::format("{},{:.10g},{},{:.10g},{:.10g},{:.10g},{:.10g},{},{},{},{:.4g},{}\n", k + 1,
-                       t.factor, t.failed ? 1 : 0, t.load_reached, t.crest_dx, t.crest_dy,
-                       t.crest_displacement(), t.load_steps, t.newton_iterations, t.cutbacks,
-                       t.seconds, quoted(t.reason));
+    out << fmt::format(
+        "{},{:.10g},{},{},{:.10g},{:.6g},{:.10g},{:.10g},{:.10g},{},{},{},{:.4g},{}\n", k + 1,
+        t.factor, t.failed ? 1 : 0, to_string(t.end), t.load_reached, t.current_stiffness,
+        t.crest_dx, t.crest_dy, t.crest_displacement(), t.load_steps, t.newton_iterations,
+        t.cutbacks, t.seconds, quoted(t.reason));
   }
 }
 
@@ -112,11 +108,45 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
   j["factor_of_safety"] = r.fos.bracketed ? nlohmann::json(r.fos.value()) : nlohmann::json();
   j["bracket"] = {r.fos.lower, r.fos.upper};
   j["message"] = r.fos.message;
+  j["upper_undecided"] = r.fos.upper_undecided;
+  j["min_stiffness"] = spec.strength_reduction->min_stiffness;
   j["trials"] = r.fos.trials.size();
+  nlohmann::json ends = nlohmann::json::array();
+  for (const StrengthTrial& t : r.fos.trials)
+    ends.push_back({{"factor", t.factor},
+                    {"failed", t.failed},
+                    {"criterion", to_string(t.end)},
+                    {"load_reached", t.load_reached},
+                    {"current_stiffness", std::isfinite(t.current_stiffness)
+                                              ? nlohmann::json(t.current_stiffness)
+                                              : nlohmann::json()},
+                    {"crest_displacement", t.crest_displacement()}});
+  j["trial_ends"] = ends;
   j["newton_iterations"] = r.newton_iterations;
   j["wall_seconds"] = r.wall_seconds;
   j["cpu_seconds"] = r.cpu_seconds;
   std::ofstream(file) << j.dump(2) << "\n";
+}
+
+/// Halves [fos.lower, fos.upper] (a standing and a failing factor) until it is within the
+/// tolerance or the trials run out.
+template <class Run, class OutOfTrials>
+FactorOfSafety& bisect(const StrengthReductionSpec& settings, FactorOfSafety& fos, Run& run,
+                       OutOfTrials& out_of_trials) {
+  while (fos.upper - fos.lower > settings.tolerance) {
+    if (out_of_trials()) {
+      fos.message = fmt::format("max_trials = {} reached with the bracket [{:g}, {:g}] wider "
+                                "than the tolerance {:g}",
+                                settings.max_trials, fos.lower, fos.upper, settings.tolerance);
+      return fos;
+    }
+    const double middle = 0.5 * (fos.lower + fos.upper);
+    (run(middle) ? fos.lower : fos.upper) = middle;
+  }
+  fos.bracketed = true;
+  fos.message = fmt::format("bracket [{:.4g}, {:.4g}] within the tolerance {:g} after {} trials",
+                            fos.lower, fos.upper, settings.tolerance, fos.trials.size());
+  return fos;
 }
 
 } // namespace
@@ -125,9 +155,76 @@ double StrengthTrial::crest_displacement() const {
   return std::hypot(crest_dx, crest_dy);
 }
 
+const char* to_string(TrialEnd end) {
+  switch (end) {
+  case TrialEnd::Stood:
+    return "stood";
+  case TrialEnd::Stiffness:
+    return "stiffness";
+  case TrialEnd::LimitPoint:
+    return "limit_point";
+  case TrialEnd::Displacement:
+    return "displacement";
+  case TrialEnd::NewtonBudget:
+    return "newton_budget";
+  case TrialEnd::Numerical:
+    return "numerical";
+  case TrialEnd::InitialStress:
+    return "initial_stress";
+  case TrialEnd::Interrupted:
+    return "interrupted";
+  }
+  return "?";
+}
+
+std::optional<std::string> stall_mechanism(const StrengthReductionSpec& settings,
+                                           const StiffnessPath& path, double failed_at,
+                                           double scale, const char* unit) {
+  if (path.stiffness.empty())
+    return std::nullopt;
+  const double stiffness = path.stiffness.back();
+  if (stiffness < kStallStiffness * settings.min_stiffness)
+    return fmt::format("the current stiffness {:.3g} was below {:g} min_stiffness", stiffness,
+                       kStallStiffness);
+  const double limit = path.extrapolated_limit();
+  if (limit <= failed_at)
+    return fmt::format("the current stiffness {:.3g} extrapolates to zero at {:.4g}{}, within "
+                       "the step it could not take",
+                       stiffness, scale * limit, unit);
+  return std::nullopt;
+}
+
+double StiffnessPath::extrapolated_limit() const {
+  const std::size_t n = stiffness.size();
+  if (n < 2)
+    return std::numeric_limits<double>::infinity();
+  const double slope = (stiffness[n - 1] - stiffness[n - 2]) / (control[n - 1] - control[n - 2]);
+  if (!(slope < 0))
+    return std::numeric_limits<double>::infinity();
+  return control[n - 1] - stiffness[n - 1] / slope;
+}
+
+std::function<std::optional<std::string>(const StepState&)>
+failure_watch(const StrengthReductionSpec& settings, std::function<std::string(double)> where) {
+  return [&settings, where = std::move(where)](const StepState& s) -> std::optional<std::string> {
+    if (s.current_stiffness < settings.min_stiffness)
+      return fmt::format("current stiffness {:.3g} < min_stiffness {:g} {}: a mechanism",
+                         s.current_stiffness, settings.min_stiffness, where(s.time));
+    if (!settings.displacement_limit)
+      return std::nullopt;
+    const auto crest = std::find_if(s.probes.begin(), s.probes.end(),
+                                    [&](const ProbeState& p) { return p.name == settings.probe; });
+    const double moved = (crest->current - crest->initial).norm();
+    if (moved <= *settings.displacement_limit)
+      return std::nullopt;
+    return fmt::format("crest moved {:.4g} m > limit {:g} m {}", moved,
+                       *settings.displacement_limit, where(s.time));
+  };
+}
+
 StrengthTrial classify_trial(const StrengthReductionSpec& settings, double factor,
                              const RunResult& run, double end_time, double crest_dx,
-                             double crest_dy) {
+                             double crest_dy, const StiffnessPath& path, double min_step) {
   StrengthTrial trial;
   trial.factor = factor;
   trial.seconds = run.wall_seconds;
@@ -139,30 +236,54 @@ StrengthTrial classify_trial(const StrengthReductionSpec& settings, double facto
   };
   trial.newton_iterations = stat("newton_iterations");
   trial.cutbacks = stat("cutbacks");
+  if (const auto it = run.extra.find("current_stiffness"); it != run.extra.end())
+    trial.current_stiffness = it->second;
   trial.crest_dx = crest_dx;
   trial.crest_dy = crest_dy;
   const double moved = trial.crest_displacement();
+  const std::string effort = fmt::format("{} steps, {} Newton iterations, {} cut-backs", run.steps,
+                                         trial.newton_iterations, trial.cutbacks);
+  trial.failed = true;
   if (run.status == "interrupted") {
-    trial.failed = true;
+    trial.end = TrialEnd::Interrupted;
     trial.reason = "interrupted";
-  } else if (run.status == "stopped") { // the crest limit, during the loading
-    trial.failed = true;
-    trial.reason = fmt::format("failed: {} ({} steps, {} Newton iterations, {} cut-backs)",
-                               run.message, run.steps, trial.newton_iterations, trial.cutbacks);
+  } else if (run.status == "stopped") { // by failure_watch, after a converged step
+    trial.end = trial.current_stiffness < settings.min_stiffness ? TrialEnd::Stiffness
+                                                                 : TrialEnd::Displacement;
+    trial.reason = fmt::format("failed: {} (crest moved {:.4g} m; {})", run.message, moved, effort);
+  } else if (const auto mechanism =
+                 stat("newton_stalled") > 0
+                     ? stall_mechanism(settings, path, trial.load_reached + min_step, 100.0, " %")
+                     : std::nullopt) {
+    trial.end = TrialEnd::LimitPoint;
+    trial.reason = fmt::format("failed: Newton did not converge beyond {:.1f} % of the load, "
+                               "where {}: a mechanism (crest moved {:.4g} m; {})",
+                               100.0 * trial.load_reached, *mechanism, moved, effort);
+  } else if (run.exit_code != 0 && stat("newton_stalled") > 0) {
+    trial.end = TrialEnd::NewtonBudget;
+    trial.reason = fmt::format(
+        "undecided, counted as failed: Newton did not converge at the smallest load step at "
+        "{:.1f} % of the load while the current stiffness was {:.3g}, above min_stiffness {:g} "
+        "(no mechanism yet; crest moved {:.4g} m): raise solver.max_newton_iterations or lower "
+        "time.min_dt ({})",
+        100.0 * trial.load_reached, trial.current_stiffness, settings.min_stiffness, moved,
+        run.message);
   } else if (run.exit_code != 0) {
-    trial.failed = true;
+    trial.end = TrialEnd::Numerical;
     trial.reason = fmt::format("failed at {:.1f} % of the load (crest moved {:.4g} m): {}",
                                100.0 * trial.load_reached, moved, run.message);
   } else if (settings.displacement_limit && moved > *settings.displacement_limit) {
     // A run without the stop: the crest limit judged on the final state.
-    trial.failed = true;
+    trial.end = TrialEnd::Displacement;
     trial.reason = fmt::format("failed: converged, but the crest moved {:.4g} m, beyond the "
                                "displacement limit {:g} m",
                                moved, *settings.displacement_limit);
   } else {
-    trial.reason = fmt::format("stood: full load in {} steps, {} Newton iterations, {} "
-                               "cut-backs; crest moved {:.4g} m",
-                               run.steps, trial.newton_iterations, trial.cutbacks, moved);
+    trial.failed = false;
+    trial.end = TrialEnd::Stood;
+    trial.reason = fmt::format("stood: full load in {}; current stiffness {:.3g}, crest moved "
+                               "{:.4g} m",
+                               effort, trial.current_stiffness, moved);
   }
   return trial;
 }
@@ -193,7 +314,8 @@ CaseSpec reduce_strength(const CaseSpec& spec, double factor) {
 
 FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
                                        const std::function<StrengthTrial(double)>& trial,
-                                       const std::function<void(const StrengthTrial&)>& on_trial) {
+                                       const std::function<void(const StrengthTrial&)>& on_trial,
+                                       double floor) {
   FactorOfSafety fos;
   auto run = [&](double factor) {
     fos.trials.push_back(trial(factor));
@@ -202,12 +324,23 @@ FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
     return !fos.trials.back().failed;
   };
   auto out_of_trials = [&] { return static_cast<int>(fos.trials.size()) >= settings.max_trials; };
-  if (!run(settings.lower)) {
-    fos.upper = settings.lower;
-    fos.message = fmt::format("the lowest factor F = {:g} already fails: the factor of safety is "
-                              "below the search range; lower strength_reduction.lower",
-                              settings.lower);
-    return fos;
+  // Below `lower` down to `floor`, in steps that double, until a factor stands.
+  double lower = settings.lower;
+  double step = settings.upper - settings.lower;
+  while (!run(lower)) {
+    fos.upper = lower;
+    if (lower <= floor || out_of_trials()) {
+      fos.message = fmt::format("the lowest factor F = {:g} already fails: the factor of safety "
+                                "is below the search range; lower strength_reduction.lower",
+                                lower);
+      return fos;
+    }
+    lower = std::max(floor, lower - step);
+    step *= 2;
+  }
+  if (lower < settings.lower) { // a standing factor below the range: bisect [lower, upper]
+    fos.lower = lower;
+    return bisect(settings, fos, run, out_of_trials);
   }
   fos.lower = settings.lower;
   double upper = settings.upper;
@@ -224,23 +357,22 @@ FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
     upper *= 1.5;
   }
   fos.upper = upper;
-  while (fos.upper - fos.lower > settings.tolerance) {
-    if (out_of_trials()) {
-      fos.message = fmt::format("max_trials = {} reached with the bracket [{:g}, {:g}] wider "
-                                "than the tolerance {:g}",
-                                settings.max_trials, fos.lower, fos.upper, settings.tolerance);
-      return fos;
-    }
-    const double middle = 0.5 * (fos.lower + fos.upper);
-    (run(middle) ? fos.lower : fos.upper) = middle;
-  }
-  fos.bracketed = true;
-  fos.message = fmt::format("bracket [{:.4g}, {:.4g}] within the tolerance {:g} after {} trials",
-                            fos.lower, fos.upper, settings.tolerance, fos.trials.size());
-  return fos;
+  return bisect(settings, fos, run, out_of_trials);
 }
 
 namespace {
+
+/// Marks a search whose smallest failed factor Newton could not decide, and says so.
+void note_undecided_upper(FactorOfSafety& fos) {
+  const auto upper = std::find_if(fos.trials.begin(), fos.trials.end(),
+                                  [&](const auto& t) { return t.failed && t.factor == fos.upper; });
+  fos.upper_undecided = upper != fos.trials.end() && upper->end == TrialEnd::NewtonBudget;
+  if (fos.upper_undecided)
+    fos.message += fmt::format("; but the trial F = {:g} that bounds it above was undecided "
+                               "(Newton's budget, not a mechanism): the factor of safety may be "
+                               "higher",
+                               fos.upper);
+}
 
 /// A finished run's result as its summary.json tells it; nothing if it did not finish.
 std::optional<RunResult> finished_run(const fs::path& dir) {
@@ -309,11 +441,12 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   if (ranks.root())
     log.open(result.out_dir / "fos.log");
   log << fmt::format("# talus fos {}: strength reduction c / F, tan(phi) / F; a trial fails when "
-                     "Newton does not converge at the smallest load step{}\n",
-                     spec.name,
+                     "the slope's current stiffness under its weight falls below {:g} of its "
+                     "first load step's (a mechanism){}; checked after every converged load "
+                     "step, where the trial stops\n",
+                     spec.name, spec.strength_reduction->min_stiffness,
                      spec.strength_reduction->displacement_limit
-                         ? fmt::format(" or the crest moves more than {:g} m (checked after "
-                                       "every converged load step; the trial stops there)",
+                         ? fmt::format(" or the crest moves more than {:g} m",
                                        *spec.strength_reduction->displacement_limit)
                          : std::string());
   bool interrupted = false;
@@ -322,6 +455,7 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
       StrengthTrial t;
       t.factor = factor;
       t.failed = true;
+      t.end = TrialEnd::Interrupted;
       t.reason = "interrupted";
       return t;
     }
@@ -338,13 +472,26 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
     }
   };
   if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
-    result.fos = incremental_factor_of_safety(spec, result.out_dir / kTrialsDir / "incremental",
-                                              options, interrupted);
-    for (const StrengthTrial& t : result.fos.trials)
-      log << fmt::format("step F = {:.6f}: {}\n", t.factor, t.reason);
+    // Loaded at a lower factor again (a fresh run) while the loading fails above `floor`.
+    CaseSpec attempt = spec;
+    StrengthReductionSpec& settings = *attempt.strength_reduction;
+    double step = settings.upper - settings.lower;
+    while (true) {
+      result.fos = incremental_factor_of_safety(
+          attempt, result.out_dir / kTrialsDir / "incremental", options, interrupted);
+      for (const StrengthTrial& t : result.fos.trials)
+        log << fmt::format("step F = {:.6f}: {}\n", t.factor, t.reason);
+      const bool below = !result.fos.trials.empty() && result.fos.trials.front().failed;
+      if (!below || interrupted || settings.lower <= options.floor)
+        break;
+      settings.lower = std::max(options.floor, settings.lower - step);
+      step *= 2;
+      fs::remove_all(result.out_dir / kTrialsDir / "incremental");
+    }
   } else {
-    result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial);
+    result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial, options.floor);
   }
+  note_undecided_upper(result.fos);
   if (interrupted) {
     result.fos.bracketed = false;
     result.fos.message = "interrupted";
@@ -363,7 +510,11 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
     run_python_script("plot_fos.py",
                       {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(),
                        spec.name, fmt::format("{:.17g}", result.fos.lower),
-                       fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0"});
+                       fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0",
+                       fmt::format("{:g}", spec.strength_reduction->min_stiffness),
+                       spec.strength_reduction->mode == StrengthReductionMode::Incremental
+                           ? "incremental"
+                           : "trials"});
   });
   return result;
 }

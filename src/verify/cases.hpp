@@ -34,6 +34,9 @@ VerificationCase lame_cylinder();
 VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
+VerificationCase slope_fos_refinement();
+VerificationCase slope_fos_refinement_c5_phi30();
+VerificationCase slope_fos_refinement_steep();
 VerificationCase slope_fos_slab_3d();
 VerificationCase slope_3d_end_walls();
 // The stability tier (`talus verify --tier stability`).

@@ -158,14 +158,14 @@ TEST_F(Restart, StagedRunWithStrengthReductionResumes) {
       {1e-9});
 }
 
-/// fos.csv's rows without the seconds column: the trials' factors, outcomes, crest
-/// displacements, load steps, Newton iterations and cut-backs.
+/// fos.csv's rows without the seconds column: the trials' factors, outcomes and what ended
+/// them, stiffnesses, crest displacements, load steps, Newton iterations and cut-backs.
 std::vector<std::string> fos_rows(const fs::path& dir) {
   std::vector<std::string> rows;
   std::istringstream in(read_file(dir / "fos.csv"));
   for (std::string line; std::getline(in, line);) {
     std::size_t cut = 0;
-    for (int k = 0; k < 10 && cut != std::string::npos; ++k)
+    for (int k = 0; k < 12 && cut != std::string::npos; ++k)
       cut = line.find(',', cut + 1);
     rows.push_back(line.substr(0, cut));
   }

@@ -132,10 +132,70 @@ TEST(Newton, ReportsNonConvergence) {
   NewtonOptions options;
   options.residual_scale = problem.force_scale();
   options.max_iterations = 2;
+  options.extension = 1; // exactly two iterations
   Eigen::VectorXd u = Eigen::VectorXd::Zero(100);
   const Eigen::VectorXd start = u;
   const NewtonReport report = solve_newton(problem, lu, u, options);
   EXPECT_FALSE(report.converged);
   EXPECT_FALSE(report.message.empty());
   EXPECT_EQ(u, start); // the caller's state is untouched when Newton fails
+}
+
+// Past max_iterations an attempt goes on while its residual keeps falling: the problem above
+// converges in 5 iterations (quadratically after the first), so two iterations plus the
+// extension reach it; without the extension they did not (ReportsNonConvergence).
+TEST(Newton, GoesOnPastTheBudgetWhileItProgresses) {
+  CubicReactionDiffusion problem(100, 20.0);
+  SparseLuSolver lu;
+  NewtonOptions options;
+  options.residual_scale = problem.force_scale();
+  options.max_iterations = 2;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(100);
+  const NewtonReport report = solve_newton(problem, lu, u, options);
+  EXPECT_TRUE(report.converged) << report.message;
+  EXPECT_GT(report.iterations, 2);
+  EXPECT_LE(report.iterations, 8);
+}
+
+namespace {
+// r(x) = x^2 + 1 has no real root: Newton's iterates wander without the residual falling.
+class NoRoot final : public NonlinearSystem {
+public:
+  Index size() const override { return 1; }
+  bool residual(const Eigen::VectorXd& u, Eigen::VectorXd& r) override {
+    r.resize(1);
+    r[0] = u[0] * u[0] + 1.0;
+    return true;
+  }
+  const SparseMatrix& jacobian(const Eigen::VectorXd& u) override {
+    J_.resize(1, 1);
+    J_.setZero();
+    J_.insert(0, 0) = u[0] != 0.0 ? 2.0 * u[0] : 1.0;
+    J_.makeCompressed();
+    return J_;
+  }
+  bool pattern_changed() const override { return !analysed_; }
+  void pattern_analysed() override { analysed_ = true; }
+
+private:
+  SparseMatrix J_;
+  bool analysed_ = false;
+};
+} // namespace
+
+// ... and stops once it stands still: the residual of r = x^2 + 1 never falls below 1, so the
+// attempt ends at the first window check past max_iterations, far short of extension times it,
+// and says why.
+TEST(Newton, StopsPastTheBudgetWhenItStagnates) {
+  NoRoot problem;
+  SparseLuSolver lu;
+  NewtonOptions options;
+  options.line_search = false;
+  options.max_iterations = 12;
+  options.extension = 10;
+  Eigen::VectorXd u = Eigen::VectorXd::Constant(1, 0.5);
+  const NewtonReport report = solve_newton(problem, lu, u, options);
+  EXPECT_FALSE(report.converged);
+  EXPECT_LE(report.iterations, 13);
+  EXPECT_NE(report.message.find("no progress after"), std::string::npos) << report.message;
 }

@@ -7,6 +7,7 @@
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
+#include "talus/solver/fos_refinement.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/solver/strength_reduction.hpp"
 #include "temporary_directory.hpp"
@@ -97,8 +98,11 @@ nlohmann::json read_json(const fs::path& file) {
 /// What run_case would return for a trial that ended at `time` (of `end_time`) with `status`:
 /// 8 steps for the full load, 3 Newton iterations a step, one cut-back.
 RunResult fake_run(double end_time, double time, const std::string& status,
-                   const std::string& message) {
+                   const std::string& message, double stiffness = 0.8, bool stalled = false) {
   RunResult run;
+  run.extra["current_stiffness"] = stiffness;
+  if (stalled)
+    run.extra["newton_stalled"] = 1.0;
   run.status = status;
   run.message = message;
   run.exit_code = status == "completed" ? 0 : status == "numerical_failure" ? 3 : 1;
@@ -122,7 +126,13 @@ TEST(StrengthReduction, ReadsTheSectionWithDefaults) {
   EXPECT_DOUBLE_EQ(spec.strength_reduction->tolerance, 0.5);
   EXPECT_EQ(spec.strength_reduction->max_trials, 16);
   EXPECT_EQ(spec.strength_reduction->probe, "crest");
+  EXPECT_DOUBLE_EQ(spec.strength_reduction->min_stiffness, 0.1);
   EXPECT_FALSE(spec.strength_reduction->displacement_limit);
+  EXPECT_DOUBLE_EQ(
+      read_case_text(with(kSlope, "probe: crest}", "probe: crest, min_stiffness: 0.2}"),
+                     "case.yaml")
+          .strength_reduction->min_stiffness,
+      0.2);
   const CaseSpec limited = read_case_text(
       with(kSlope, "probe: crest}", "probe: crest, displacement_limit: 0.5}"), "case.yaml");
   EXPECT_DOUBLE_EQ(*limited.strength_reduction->displacement_limit, 0.5);
@@ -136,6 +146,12 @@ TEST(StrengthReduction, RefusesSectionsItCannotSearch) {
   EXPECT_NE(error_of(with(kSlope, "upper: 4.0", "upper: 0.5")).find("must be above 'lower'"),
             std::string::npos);
   EXPECT_NE(error_of(with(kSlope, "tolerance: 0.5", "max_trials: 1")).find("[2, 100]"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, min_stiffness: 1}"))
+                .find("must be below 1"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, min_stiffness: 0}"))
+                .find("min_stiffness"),
             std::string::npos);
   EXPECT_NE(error_of(with(kSlope, "analysis: implicit_quasistatic", "analysis: implicit_dynamic"))
                 .find("needs 'analysis: implicit_quasistatic'"),
@@ -261,46 +277,104 @@ TEST(StrengthReduction, SearchWritesItsFilesAndKeepsEarlierResults) {
 
 // Each way a trial's run can end, as the search counts it.
 TEST(StrengthReduction, ClassifiesATrialByHowItsRunEnded) {
+  // A stiffness path that stays stiff, and one heading for a limit point at 80 % of the load.
+  StiffnessPath stiff{{0.25, 0.5, 0.75}, {1.0, 0.95, 0.9}};
+  StiffnessPath softening{{0.6, 0.75}, {0.9, 0.3}};
+  const auto classify = [](const StrengthReductionSpec& s, double factor, const RunResult& run,
+                           double end_time, double dx, double dy,
+                           const StiffnessPath& path = StiffnessPath{}) {
+    return classify_trial(s, factor, run, end_time, dx, dy, path, 1.0 / 32);
+  };
   StrengthReductionSpec settings;
   settings.probe = "crest";
   // Completed with the crest inside the limit, or without a limit: stood.
   settings.displacement_limit = 0.5;
-  StrengthTrial t = classify_trial(settings, 1.3, fake_run(1, 1, "completed", ""), 1, 0.03, -0.04);
+  StrengthTrial t = classify(settings, 1.3, fake_run(1, 1, "completed", ""), 1, 0.03, -0.04);
   EXPECT_FALSE(t.failed) << t.reason;
+  EXPECT_EQ(t.end, TrialEnd::Stood);
   EXPECT_DOUBLE_EQ(t.factor, 1.3);
   EXPECT_DOUBLE_EQ(t.crest_displacement(), 0.05);
   EXPECT_DOUBLE_EQ(t.load_reached, 1.0);
+  EXPECT_DOUBLE_EQ(t.current_stiffness, 0.8);
   EXPECT_EQ(t.load_steps, 8);
   EXPECT_EQ(t.newton_iterations, 24);
   EXPECT_EQ(t.cutbacks, 1);
   EXPECT_NE(t.reason.find("stood: full load in 8 steps"), std::string::npos) << t.reason;
   // Completed, but the crest beyond the limit (a run the limit did not stop): failed.
-  t = classify_trial(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8);
+  t = classify(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8);
   EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::Displacement);
   EXPECT_NE(t.reason.find("crest moved 1 m, beyond the displacement limit 0.5 m"),
             std::string::npos)
       << t.reason;
   settings.displacement_limit.reset();
-  EXPECT_FALSE(classify_trial(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8).failed);
-  // Stopped by the crest limit during the loading: failed, with the hook's message and the load
-  // it reached (end_time 2: the load is t / end_time).
+  EXPECT_FALSE(classify(settings, 1.5, fake_run(1, 1, "completed", ""), 1, 0.6, -0.8).failed);
+  // Stopped by the watch during the loading: by the stiffness (a mechanism) when the last
+  // stiffness is below min_stiffness, else by the crest limit; the load is t / end_time.
   settings.displacement_limit = 0.5;
-  t = classify_trial(settings, 1.45,
-                     fake_run(2, 1.25, "stopped", "crest moved 0.61 m > limit 0.5 m at load 0.625"),
-                     2, 0.4, -0.46);
+  t = classify(settings, 1.45,
+               fake_run(2, 1.25, "stopped", "crest moved 0.61 m > limit 0.5 m at load 0.625"), 2,
+               0.4, -0.46);
   EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::Displacement);
   EXPECT_DOUBLE_EQ(t.load_reached, 0.625);
-  EXPECT_EQ(t.reason, "failed: crest moved 0.61 m > limit 0.5 m at load 0.625 (5 steps, 15 "
-                      "Newton iterations, 1 cut-backs)");
-  // Newton at min_dt (or max_steps, the state guard): failed at the load reached.
-  t = classify_trial(settings, 1.6,
-                     fake_run(1, 0.75, "numerical_failure", "Newton did not converge"), 1, 0.1, 0);
+  EXPECT_EQ(t.reason, "failed: crest moved 0.61 m > limit 0.5 m at load 0.625 (crest moved 0.6096 "
+                      "m; 5 steps, 15 Newton iterations, 1 cut-backs)");
+  t = classify(settings, 1.45,
+               fake_run(1, 0.75, "stopped", "current stiffness 0.03 < min_stiffness 0.05", 0.03), 1,
+               0.01, 0);
   EXPECT_TRUE(t.failed);
-  EXPECT_EQ(t.reason, "failed at 75.0 % of the load (crest moved 0.1 m): Newton did not converge");
+  EXPECT_EQ(t.end, TrialEnd::Stiffness);
+  // Newton at min_dt while the slope is still stiff: undecided, counted as failed, and said so.
+  t = classify(
+      settings, 1.6,
+      fake_run(1, 0.75, "numerical_failure", "Newton did not converge", 0.4, /*stalled=*/true), 1,
+      0.1, 0, stiff);
+  EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::NewtonBudget);
+  EXPECT_NE(t.reason.find("undecided, counted as failed"), std::string::npos) << t.reason;
+  EXPECT_NE(t.reason.find("current stiffness was 0.4, above min_stiffness 0.1"), std::string::npos)
+      << t.reason;
+  // ... but a mechanism when the stiffness, falling, reaches zero within the step Newton could
+  // not take: from 0.3 at 75 % it extrapolates to zero at 82.5 %, and the step of 1/32 from 80 %
+  // reaches 83.1 %; from 75 % it would end at 78.1 %, short of the limit point.
+  RunResult stalled =
+      fake_run(1, 0.8, "numerical_failure", "Newton did not converge", 0.3, /*stalled=*/true);
+  t = classify(settings, 1.6, stalled, 1, 0.1, 0, softening);
+  EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::LimitPoint);
+  EXPECT_NE(t.reason.find("extrapolates to zero at 82.5 %"), std::string::npos) << t.reason;
+  stalled.final_time = 0.75;
+  EXPECT_EQ(classify(settings, 1.6, stalled, 1, 0.1, 0, softening).end, TrialEnd::NewtonBudget);
+  // ... and a mechanism when the slope has already lost most of its stiffness: below
+  // kStallStiffness min_stiffness (0.2 with the default 0.1), whatever the trend.
+  StiffnessPath soft{{0.5, 0.75}, {0.16, 0.15}};
+  t = classify(settings, 1.6, stalled, 1, 0.1, 0, soft);
+  EXPECT_EQ(t.end, TrialEnd::LimitPoint);
+  EXPECT_NE(t.reason.find("the current stiffness 0.15 was below 2 min_stiffness"),
+            std::string::npos)
+      << t.reason;
+  // Another numerical stop (max_steps, the state guard): failed at the load reached.
+  t = classify(settings, 1.6, fake_run(1, 0.75, "numerical_failure", "reached max_steps"), 1, 0.1,
+               0);
+  EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::Numerical);
+  EXPECT_EQ(t.reason, "failed at 75.0 % of the load (crest moved 0.1 m): reached max_steps");
   // Interrupted: failed, and said so (the search then stops).
-  t = classify_trial(settings, 1.6, fake_run(1, 0.5, "interrupted", "interrupted"), 1, 0, 0);
+  t = classify(settings, 1.6, fake_run(1, 0.5, "interrupted", "interrupted"), 1, 0, 0);
   EXPECT_TRUE(t.failed);
+  EXPECT_EQ(t.end, TrialEnd::Interrupted);
   EXPECT_EQ(t.reason, "interrupted");
+}
+
+// The limit point a loading heads for: the stiffness's straight line through the last two steps
+// meets zero; none while it does not fall or with fewer than two steps.
+TEST(StrengthReduction, ExtrapolatesTheStiffnessToItsLimitPoint) {
+  EXPECT_NEAR((StiffnessPath{{0.6, 0.75}, {0.8, 0.2}}.extrapolated_limit()), 0.8, 1e-15);
+  EXPECT_NEAR((StiffnessPath{{0.25, 1.3, 1.35}, {1, 0.5, 0.25}}.extrapolated_limit()), 1.4, 1e-14);
+  EXPECT_TRUE(std::isinf(StiffnessPath{{0.5, 0.75}, {0.8, 0.8}}.extrapolated_limit()));
+  EXPECT_TRUE(std::isinf(StiffnessPath{{0.5, 0.75}, {0.5, 0.8}}.extrapolated_limit()));
+  EXPECT_TRUE(std::isinf(StiffnessPath{{0.5}, {0.1}}.extrapolated_limit()));
 }
 
 // The hook ends an implicit run after the step it objects to: status "stopped" with its
@@ -311,13 +385,12 @@ TEST_F(StopAfterStep, EndsAnImplicitRunAfterTheStepWithItsMessage) {
   options.out_dir = root_ / "run";
   options.progress = false;
   std::vector<double> seen;
-  options.stop_after_step = [&](std::span<const ProbeState> probes,
-                                double time) -> std::optional<std::string> {
-    EXPECT_TRUE(probes.empty()); // the block has no probes
-    seen.push_back(time);
-    if (time < 0.5)
+  options.stop_after_step = [&](const StepState& step) -> std::optional<std::string> {
+    EXPECT_TRUE(step.probes.empty()); // the block has no probes
+    seen.push_back(step.time);
+    if (step.time < 0.5)
       return std::nullopt;
-    return "enough at t = " + std::to_string(time);
+    return "enough at t = " + std::to_string(step.time);
   };
   const RunResult r = run_case(spec, options);
   EXPECT_EQ(r.status, "stopped");
@@ -342,9 +415,7 @@ TEST_F(StopAfterStep, EndsAnImplicitRunAfterTheStepWithItsMessage) {
   EXPECT_EQ(summary.at("steps").get<Index>(), 2);
   // A hook that never objects leaves the run as it was.
   options.out_dir = root_ / "through";
-  options.stop_after_step = [](std::span<const ProbeState>, double) {
-    return std::optional<std::string>{};
-  };
+  options.stop_after_step = [](const StepState&) { return std::optional<std::string>{}; };
   const RunResult through = run_case(spec, options);
   EXPECT_EQ(through.status, "completed") << through.message;
   EXPECT_EQ(through.steps, 4);
@@ -360,11 +431,10 @@ TEST_F(StopAfterStep, EndsAnExplicitRunAfterTheStep) {
   options.progress = false;
   int calls = 0;
   double stopped_at = 0;
-  options.stop_after_step = [&](std::span<const ProbeState>,
-                                double time) -> std::optional<std::string> {
+  options.stop_after_step = [&](const StepState& step) -> std::optional<std::string> {
     if (++calls < 3)
       return std::nullopt;
-    stopped_at = time;
+    stopped_at = step.time;
     return std::string("third step");
   };
   const RunResult r = run_case(spec, options);
@@ -387,8 +457,10 @@ TEST_F(StopAfterStep, EndsAnExplicitRunAfterTheStep) {
 // (The coarse slope's crest moves 0.007 m at F = 1 and 0.05 to 0.09 m where Newton gives up at
 // F >= 2.125: a limit of 0.03 m stops F = 4 and 2.5 part-way through their load.)
 TEST_F(StopAfterStep, ACrestBeyondTheLimitStopsTheTrialDuringItsLoading) {
+  // min_stiffness this low leaves the trials to the crest limit.
   const CaseSpec spec = read_case_text(
-      with(kSlope, "probe: crest}", "probe: crest, displacement_limit: 0.03}"), "case.yaml");
+      with(kSlope, "probe: crest}", "probe: crest, displacement_limit: 0.03, min_stiffness: 1e-6}"),
+      "case.yaml");
   FosOptions options;
   options.out_dir = root_ / "fos";
   options.threads = 1;
@@ -425,4 +497,121 @@ TEST_F(StopAfterStep, ACrestBeyondTheLimitStopsTheTrialDuringItsLoading) {
   std::ifstream log(options.out_dir / "fos.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("trial F = 4.000000: failed: crest moved"), std::string::npos) << text;
+}
+
+// The current stiffness (Bergan's parameter from the consistent tangent) of an elastic body
+// under its own weight stays 1: the compliance under the load does not change while the
+// response is linear. Measured: 1.00039, 1.00042, 1.00045 after steps 2 to 4 (the elasticity
+// is finite-strain and the block shortens by up to 4e-3 of its height: geometric stiffening of
+// that order, growing with the load); bounded at 2e-3 (4x), where a compliance taken with a
+// wrong tangent or load would be off by O(1).
+TEST_F(StopAfterStep, AnElasticBodyKeepsItsStiffness) {
+  const CaseSpec spec = read_case_text(kBlock, "case.yaml");
+  RunOptions options;
+  options.out_dir = root_ / "run";
+  options.progress = false;
+  options.measure_stiffness = true;
+  std::vector<double> seen;
+  options.stop_after_step = [&](const StepState& step) -> std::optional<std::string> {
+    seen.push_back(step.current_stiffness);
+    return std::nullopt;
+  };
+  const RunResult r = run_case(spec, options);
+  ASSERT_EQ(r.status, "completed") << r.message;
+  ASSERT_EQ(seen.size(), 4u);
+  for (const double s : seen)
+    EXPECT_NEAR(s, 1.0, 2e-3);
+  const CsvTable series = read_csv(options.out_dir / "timeseries.csv");
+  const auto& column = series.column("current_stiffness");
+  ASSERT_EQ(column.size(), 5u); // the initial row has nothing measured yet
+  EXPECT_TRUE(std::isnan(column[0]));
+  for (std::size_t k = 1; k < column.size(); ++k)
+    EXPECT_DOUBLE_EQ(column[k], seen[k - 1]);
+  EXPECT_DOUBLE_EQ(r.extra.at("current_stiffness"), seen.back());
+  // Without measure_stiffness there is no column.
+  options.out_dir = root_ / "plain";
+  options.measure_stiffness = false;
+  run_case(spec, options);
+  EXPECT_THROW(read_csv(options.out_dir / "timeseries.csv").column("current_stiffness"),
+               std::exception);
+}
+
+// The stiffness from the tangent against the work of the weight: over a load step the secant
+// compliance (the weight's work f . du per load increment, from the time series' gravity
+// energy) lies between the tangent compliances at the step's two ends while the slope softens
+// monotonically, so the secant stiffness lies between the tangent stiffnesses. The coarse
+// slope at F = 2 yields progressively in steps of 1/32 of its weight. Within 1e-3 of the
+// bracket while elastic and near it; near the limit (stiffness 0.1 to 0.07) the secant lies
+// up to 21 % of the stiffness below the end's tangent, and 39 % at 0.014: the algorithmic
+// tangent of a point that unloaded elastically in its last step is the elastic one, though
+// further loading would yield it, so near the limit the tangent overstates the stiffness.
+// Bound, down to 0.05 (half the default min_stiffness, where the criterion reads it): 30 % of the
+// stiffness outside the bracket; a compliance taken with a wrong load or tangent misses it by
+// O(1).
+TEST_F(StopAfterStep, TheTangentStiffnessBracketsTheSecantOne) {
+  const CaseSpec spec = reduce_strength(
+      read_case_text(kSlope, "case.yaml",
+                     {"time={end_time: 1, dt: 0.03125, min_dt: 0.0078125, max_steps: 200}"}),
+      2.0);
+  RunOptions options;
+  options.out_dir = root_ / "run";
+  options.progress = false;
+  options.threads = 1;
+  options.measure_stiffness = true;
+  run_case(spec, options);
+  const CsvTable series = read_csv(options.out_dir / "timeseries.csv");
+  const auto& t = series.column("time");
+  const auto& w = series.column("gravity_energy");
+  const auto& stiffness = series.column("current_stiffness");
+  ASSERT_GE(t.size(), 8u);
+  // The work per unit load of the first step (elastic): the reference of the secant stiffness.
+  const double reference = (w[1] - w[0]) / (t[1] - t[0]);
+  int softened = 0;
+  double worst = 0;
+  for (std::size_t k = 2; k < t.size(); ++k) {
+    const double secant = reference / ((w[k] - w[k - 1]) / (t[k] - t[k - 1]));
+    const double lo = std::min(stiffness[k], stiffness[k - 1]);
+    const double hi = std::max(stiffness[k], stiffness[k - 1]);
+    const double outside = std::max({lo - secant, secant - hi, 0.0}) / stiffness[k];
+    if (stiffness[k] < 0.05)
+      continue;
+    worst = std::max(worst, outside);
+    EXPECT_LE(outside, 0.3) << "step ending at t = " << t[k] << ": secant " << secant
+                            << ", tangent " << stiffness[k - 1] << " to " << stiffness[k];
+    softened += stiffness[k] < 0.5 ? 1 : 0;
+  }
+  EXPECT_GE(softened, 2) << "the slope never yielded: the check saw no softening";
+  RecordProperty("worst_outside", std::to_string(worst));
+}
+
+// `talus fos --refine 2` on the coarse slope (h = 2 m, then 1 m): one whole search per level in
+// its own folder, the finer one starting from the coarser bracket widened by four tolerances,
+// and the factor against h in refinement.csv / .json / .png.
+TEST_F(StopAfterStep, RefinementSearchesEachGridFromTheCoarserBracket) {
+  const CaseSpec spec = read_case_text(kSlope, "case.yaml");
+  FosOptions options;
+  options.out_dir = root_ / "refine";
+  options.threads = 1;
+  const FosRefinement r = refine_factor_of_safety(spec, options, 2);
+  ASSERT_EQ(r.exit_code, 0) << r.message;
+  ASSERT_EQ(r.levels.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.levels[0].cell_size, 2.0);
+  EXPECT_DOUBLE_EQ(r.levels[1].cell_size, 1.0);
+  const FactorOfSafety& coarse = r.levels[0].search.fos;
+  const FactorOfSafety& fine = r.levels[1].search.fos;
+  ASSERT_TRUE(coarse.bracketed && fine.bracketed);
+  const double tolerance = spec.strength_reduction->tolerance;
+  EXPECT_DOUBLE_EQ(fine.trials.front().factor,
+                   std::max(coarse.lower - 4 * tolerance, 0.5 * coarse.value()));
+  EXPECT_NE(r.message.find("an order needs three"), std::string::npos) << r.message;
+  EXPECT_FALSE(r.observed_order);
+  for (const char* level : {"h2", "h1"})
+    EXPECT_TRUE(fs::exists(options.out_dir / level / "fos.json")) << level;
+  for (const char* file : {"refinement.csv", "refinement.json", "refinement.png"})
+    EXPECT_TRUE(fs::exists(options.out_dir / file)) << file;
+  const CsvTable table = read_csv(options.out_dir / "refinement.csv");
+  EXPECT_EQ(table.rows(), 2u);
+  EXPECT_DOUBLE_EQ(table.column("factor_of_safety")[1], fine.value());
+  // The directory is claimed: a second refinement there needs force.
+  EXPECT_THROW(refine_factor_of_safety(spec, options, 2), InputError);
 }

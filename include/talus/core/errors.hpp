@@ -33,6 +33,12 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// Newton did not converge at the smallest load step an implicit analysis allows.
+class NewtonStall : public NumericalError {
+public:
+  using NumericalError::NumericalError;
+};
+
 enum ExitCode : int { kExitOk = 0, kExitOther = 1, kExitBadInput = 2, kExitNumerical = 3 };
 
 } // namespace talus

@@ -214,6 +214,8 @@ struct TimeSpec {
   Index max_steps = 10000000; ///< safety cap (default 1e7)
   /// Implicit: smallest load step the adaptive stepping may cut back to (default dt / 1024).
   std::optional<double> min_dt;
+  /// min_dt or its default (an implicit analysis has dt).
+  double smallest_step() const { return min_dt.value_or(dt.value_or(0.0) / 1024.0); }
 };
 
 /// PlasticStrain: the accumulated equivalent plastic shear strain of the elasto-plastic models
@@ -300,9 +302,12 @@ struct StrengthReductionSpec {
   double tolerance = 0.01; ///< -, stop when the bracket is at most this wide
   int max_trials = 16;     ///< trials before the search gives up (no hang), >= 2
   std::string probe;       ///< probe whose displacement is the crest displacement (required)
-  /// m; a trial whose converged crest displacement exceeds this also counts as failed (the
-  /// displacement jump of a mechanism that re-stabilises after large movement). None: only
-  /// Newton failure at the smallest load step counts.
+  /// -, in (0, 1): a trial fails once the slope's current stiffness under its own weight
+  /// (Bergan's parameter: the first load step's compliance over the current one) falls below
+  /// this: a mechanism has formed (docs/case-format.md#strength_reduction).
+  double min_stiffness = 0.1;
+  /// m; a trial whose converged crest displacement exceeds this also counts as failed (a
+  /// serviceability limit). None: only the stiffness criterion decides.
   std::optional<double> displacement_limit;
   StrengthReductionMode mode = StrengthReductionMode::Trials;
   SourceLocation where;

@@ -81,6 +81,13 @@ public:
   /// The tangent of the last Newton iteration (empty before the first): `talus run
   /// --dump-tangent` writes it for benchmarking the linear solver on a real system.
   virtual const SparseMatrix& last_tangent() const = 0;
+  /// From now on, measure load_compliance() after every converged quasi-static step: one more
+  /// solve with the last factorisation per step (talus fos's failure criterion).
+  virtual void measure_load_compliance() = 0;
+  /// The compliance of the last converged state under the external load f of its step,
+  /// f . K^-1 f / |f|^2 with K the consistent tangent there; NaN while nothing was measured
+  /// (not asked for, a dynamic analysis, no load, or a step that needed no Newton iteration).
+  virtual double load_compliance() const = 0;
   /// The linear solver backend in use (the case's choice, or the automatic one), e.g. "umfpack".
   virtual std::string linear_solver() const = 0;
   /// The scene's points were added to (splitting, core/splitting.hpp) after a converged step:

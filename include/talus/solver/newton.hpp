@@ -42,7 +42,13 @@ struct NewtonOptions {
   /// Converged also when the scaled step max_i |dx_i| / step_scale falls below this.
   double step_tolerance = 1e-13;
   double step_scale = 1.0;
+  /// Iterations an attempt always gets. Beyond them it goes on while it makes progress (the
+  /// residual down by at least a quarter over the last `progress_window` iterates), up to
+  /// `extension` times this many: a hard step that converges slowly is not cut short, one that
+  /// stagnates is.
   int max_iterations = 25;
+  int extension = 4;
+  int progress_window = 10;
   bool line_search = true;
 };
 
@@ -60,7 +66,7 @@ struct NewtonReport {
   /// way (plain Newton and line search); empty otherwise.
   std::vector<double> abandoned_history;
   bool abandoned_line_search = false; ///< the abandoned attempt was the line search
-  std::string message;                ///< KINSOL's reason when not converged
+  std::string message;                ///< KINSOL's reason (or the stagnation) when not converged
   /// Wall time inside the linear solver: symbolic analyses, numeric factorisations, solves.
   double seconds_analysis = 0, seconds_factorization = 0, seconds_solve = 0;
 };

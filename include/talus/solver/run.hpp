@@ -24,6 +24,17 @@ struct ProbeState {
   Vec3 current;
 };
 
+/// What RunOptions::stop_after_step sees after a completed step.
+struct StepState {
+  std::span<const ProbeState> probes; ///< the probes' points at the start and now
+  double time = 0;                    ///< the run's time
+  /// Bergan's current stiffness parameter of a run that measures it (RunOptions::
+  /// measure_stiffness): the compliance under the load of the run's first measured step over
+  /// that of this one, 1 while the response is linear, falling towards 0 as the body loses its
+  /// stiffness to a mechanism; NaN when not measured.
+  double current_stiffness = 0;
+};
+
 struct RunOptions {
   std::filesystem::path out_dir; ///< empty: results/<case name>
   bool force = false;            ///< replace the result files of an earlier run in out_dir
@@ -42,13 +53,14 @@ struct RunOptions {
   /// written: lets a caller (talus adapt) inspect the points without reading the results back.
   std::function<void(const Scene<2>&)> final_state{};
   std::function<void(const Scene<3>&)> final_state_3d{};
-  /// Consulted after each completed step (a converged one in the implicit analyses) with the
-  /// probes' points and the run's time: a message ends the run there, with status "stopped"
-  /// and the message as RunResult::message, after that step's time-series row and frame are
-  /// written (talus fos: a trial whose crest has slid too far need not carry the rest of its
-  /// load).
-  std::function<std::optional<std::string>(std::span<const ProbeState> probes, double time)>
-      stop_after_step{};
+  /// Consulted after each completed step (a converged one in the implicit analyses): a message
+  /// ends the run there, with status "stopped" and the message as RunResult::message, after
+  /// that step's time-series row and frame are written (talus fos: a trial that has lost its
+  /// stiffness or whose crest has slid too far need not carry the rest of its load).
+  std::function<std::optional<std::string>(const StepState&)> stop_after_step{};
+  /// Quasi-static steps measure the current stiffness (StepState::current_stiffness, the
+  /// `current_stiffness` column of timeseries.csv): one more linear solve per step.
+  bool measure_stiffness = false;
 };
 
 struct RunResult {

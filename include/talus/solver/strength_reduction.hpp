@@ -2,17 +2,20 @@
 // Factor of safety by strength reduction (Griffiths & Lane, Geotechnique 49 (1999) 387): the
 // case is loaded quasi-statically, from scratch, with every frictional material's strength
 // divided by a trial factor F (c / F, tan(phi) / F); the factor of safety is the smallest F at
-// which the loading fails. A trial fails when Newton does not converge at the smallest load
-// step (no equilibrium: the mechanism runs away) or, if the case sets a limit, as soon as the
-// crest has moved further than that after a converged load step (a mechanism that slides and
-// re-stabilises, which the updated-Lagrangian MPM allows with a patient enough Newton; the
-// trial stops there instead of carrying the rest of its load). The search brackets the
-// critical factor and bisects.
+// which the loading fails. A trial fails when a mechanism forms: the slope's current stiffness
+// under its own weight (Bergan's parameter, measured with the consistent tangent after every
+// converged load step) falls below `min_stiffness` of its first load step's. That is a
+// property of the converged states, not of Newton's budget: a step Newton cannot converge
+// while the slope is still stiff is reported as undecided (and counted as failed), never as a
+// mechanism. A case may add a crest displacement limit. The search brackets the critical
+// factor and bisects (docs/case-format.md#strength_reduction).
 #include "talus/io/case_spec.hpp"
 #include "talus/solver/run.hpp"
 
 #include <filesystem>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,11 +29,38 @@ CaseSpec reduce_strength(const CaseSpec& spec, double factor);
 /// One material weakened the same way (unchanged unless tresca, mohr_coulomb, drucker_prager).
 MaterialSpec reduce_strength(const MaterialSpec& material, double factor);
 
+/// What ended a trial (fos.csv's `criterion`).
+enum class TrialEnd {
+  Stood,         ///< the full load, stiffer than min_stiffness, the crest within its limit
+  Stiffness,     ///< the current stiffness fell below min_stiffness: a mechanism
+  LimitPoint,    ///< Newton failed at the smallest step, across the extrapolated limit point
+  Displacement,  ///< the crest moved beyond displacement_limit
+  NewtonBudget,  ///< Newton failed at the smallest step short of the limit point: undecided
+  Numerical,     ///< another numerical stop (max_steps, the state guard)
+  InitialStress, ///< the reduced strength refused the initial stress
+  Interrupted,
+};
+/// "stood", "stiffness", "limit_point", "displacement", "newton_budget", "numerical",
+/// "initial_stress", "interrupted".
+const char* to_string(TrialEnd end);
+
+/// The current stiffness after each converged step of a loading, against its control: the
+/// load fraction of a trial, or F in the incremental run.
+struct StiffnessPath {
+  std::vector<double> control, stiffness;
+  /// Where the stiffness, extended as a straight line through the last two steps, reaches
+  /// zero: the limit point the loading was heading for; +infinity while it is not falling.
+  double extrapolated_limit() const;
+};
+
 /// What the loading at one trial factor found.
 struct StrengthTrial {
   double factor = 0;
-  bool failed = false;
-  std::string reason;                ///< why the trial ended (the log line)
+  bool failed = false; ///< a mechanism, or counted as one (TrialEnd other than Stood)
+  TrialEnd end = TrialEnd::Stood;
+  std::string reason; ///< why the trial ended (the log line)
+  /// Bergan's current stiffness at the last converged step (NaN if none was measured).
+  double current_stiffness = std::numeric_limits<double>::quiet_NaN();
   double load_reached = 0;           ///< t / end_time of the last converged step
   double crest_dx = 0, crest_dy = 0; ///< m, crest probe displacement at the last converged step
   Index load_steps = 0, newton_iterations = 0, cutbacks = 0;
@@ -38,14 +68,37 @@ struct StrengthTrial {
   double crest_displacement() const;
 };
 
+/// A stall on a slope whose current stiffness is below this many min_stiffness is a mechanism:
+/// near a limit point the tangent of the converged state overstates the stiffness (points that
+/// unloaded elastically in the last step are stiff in it) while Newton can no longer follow.
+constexpr double kStallStiffness = 2.0;
+
+/// Whether Newton's failure at the smallest step, after the converged steps of `path`, met a
+/// mechanism, and which: the last stiffness below kStallStiffness min_stiffness, or its
+/// trend reaching zero by `failed_at`, the control at the end of the step Newton could not
+/// take. The description names the control times `scale`, with `unit` ("%", or "" for F).
+std::optional<std::string> stall_mechanism(const StrengthReductionSpec& settings,
+                                           const StiffnessPath& path, double failed_at,
+                                           double scale, const char* unit);
+
 /// What a trial's run says about the trial factor: it stood (the full load, the crest within
-/// `displacement_limit`) or failed, and why: interrupted, stopped by the crest limit during
-/// the loading (status "stopped"), failed numerically (Newton at min_dt, max_steps, the state
-/// guard), or converged with the crest beyond the limit. `crest_dx`, `crest_dy`: the probe's
-/// displacement at the run's last converged step.
+/// `displacement_limit`) or failed, and why (TrialEnd): stopped during the loading by the
+/// stiffness criterion or the crest limit (status "stopped"); Newton at the smallest step
+/// (summary "newton_stalled"), which is a mechanism by stall_mechanism() (the step it could not
+/// take is `min_step` of the load long) and undecided otherwise; another numerical stop;
+/// interrupted; or converged with the crest beyond the limit. `crest_dx`, `crest_dy`: the probe's
+/// displacement at the run's last converged step; `path`: the stiffness after each converged step
+/// against the load fraction.
 StrengthTrial classify_trial(const StrengthReductionSpec& settings, double factor,
                              const RunResult& run, double end_time, double crest_dx,
-                             double crest_dy);
+                             double crest_dy, const StiffnessPath& path, double min_step);
+
+/// The run hook of a trial or the incremental run (RunOptions::stop_after_step): after each
+/// converged step, the current stiffness below settings.min_stiffness, or the crest beyond
+/// settings.displacement_limit, ends the run with a message that names the step by
+/// `where(time)` ("at load 0.75", "at F = 1.4"). Keeps a reference to `settings`.
+std::function<std::optional<std::string>(const StepState&)>
+failure_watch(const StrengthReductionSpec& settings, std::function<std::string(double)> where);
 
 /// The outcome of the search.
 struct FactorOfSafety {
@@ -54,17 +107,23 @@ struct FactorOfSafety {
   double upper = 0;                  ///< the smallest factor that failed
   std::string message;               ///< why the search ended
   std::vector<StrengthTrial> trials; ///< in the order they ran
+  /// The smallest failed factor is a trial Newton could not decide (TrialEnd::NewtonBudget):
+  /// the factor of safety may lie above the bracket.
+  bool upper_undecided = false;
   /// The bracket's midpoint, the reported factor of safety.
   double value() const { return 0.5 * (lower + upper); }
 };
 
 /// The search, independent of how a trial runs: `lower` must stand (else the factor of safety
-/// is below the range and the search stops); `upper` is raised by half while it stands; then
-/// the bracket is bisected until it is at most `tolerance` wide. At most `max_trials` trials,
-/// so the search always ends. `on_trial` (may be empty) sees each trial as it finishes.
+/// is below the range and the search stops), unless `floor` lies below it: then failing
+/// factors step down towards `floor` (by the range's width, doubling) until one stands.
+/// `upper` is raised by half while it stands; then the bracket is bisected until it is at most
+/// `tolerance` wide. At most `max_trials` trials, so the search always ends. `on_trial` (may be
+/// empty) sees each trial as it finishes.
 FactorOfSafety search_factor_of_safety(const StrengthReductionSpec& settings,
                                        const std::function<StrengthTrial(double)>& trial,
-                                       const std::function<void(const StrengthTrial&)>& on_trial);
+                                       const std::function<void(const StrengthTrial&)>& on_trial,
+                                       double floor = std::numeric_limits<double>::infinity());
 
 /// The incremental search (strength_reduction.mode: incremental,
 /// src/solver/incremental_strength_reduction.cpp): one run into `dir` that loads the case at
@@ -79,6 +138,9 @@ struct FosOptions {
   /// that was cut short continues from its newest checkpoint (or starts again without one).
   bool resume = false;
   bool accept_changes = false; ///< with resume: as RunOptions::accept_changes
+  /// When `lower` fails, the search may step down to this factor (search_factor_of_safety;
+  /// the incremental run starts its loading lower); infinity: `lower` must stand.
+  double floor = std::numeric_limits<double>::infinity();
 };
 
 FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::filesystem::path& dir,
