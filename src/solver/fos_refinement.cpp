@@ -96,6 +96,7 @@ void write_outputs(const FosRefinement& r, const CaseSpec& spec, const fs::path&
   j["extrapolated"] = r.extrapolated ? nlohmann::json(*r.extrapolated) : nlohmann::json();
   j["message"] = r.message;
   std::ofstream(dir / "refinement.json") << j.dump(2) << "\n";
+  csv.close(); // the plot reads the file: flush it first
   run_python_script("plot_fos_refinement.py",
                     {(dir / "refinement.csv").string(), (dir / "refinement.png").string(),
                      spec.name, r.extrapolated ? fmt::format("{:.17g}", *r.extrapolated) : "",
