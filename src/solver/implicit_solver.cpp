@@ -108,6 +108,10 @@ public:
                                           kRoundOffFloor * round_off_force_ / step_.force_scale);
     options.step_scale = scene_.grid.cell_size();
     options.max_iterations = scene_.spec.solver.max_newton_iterations;
+    // In dynamics a slow step is better cut back (a smaller dt is also more accurate); the
+    // extension serves quasi-static loading towards a limit point, where a cut-back only stalls.
+    if (dynamic_)
+      options.extension = 1;
     Eigen::VectorXd du = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(size()));
     NewtonReport report;
     if (step_.global_dof_count == 0) {

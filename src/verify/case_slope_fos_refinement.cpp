@@ -41,8 +41,8 @@ constexpr const char* kStiffStall =
     "down to 1.41 (trials) and 1.49 (incremental)";
 constexpr const char* kBelowBishop =
     "the psi = 0 factor converges to a value below Bishop's (and Spencer's), which the "
-    "criterion's budgets and min_stiffness do not move and bspline2 lowers further: not yet "
-    "explained";
+    "criterion's budgets and min_stiffness do not move; without F-bar it converges from above, "
+    "so the cell-averaged F-bar is the suspect";
 
 /// The section of a slope body given as the polygon [[0, 0], [toe, 0], [crest, H], [0, H]]
 /// resting on a firm base at y = 0, for Bishop's method.
