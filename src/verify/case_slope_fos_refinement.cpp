@@ -105,6 +105,11 @@ std::vector<Check> mode_checks(const std::string& mode, const FosRefinement& r, 
                  (r.observed_order && *r.observed_order > 0.5);
   }
   std::vector<Check> checks;
+  // Never marked known: a search that ends early measures nothing, and must fail the row even
+  // where the checks below are known failures.
+  checks.push_back(
+      holds_check(mode + ": every level searched", complete,
+                  fmt::format("{} of {} levels; {}", r.levels.size(), kLevels, r.message)));
   checks.push_back(mark(holds_check(mode + ": every level bracketed by a mechanism", decided,
                                     factors(r) + " (* the failing end undecided)")));
   checks.push_back(
