@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # How the factor of safety depends on the failure criterion's parameters: the search of CASE at
 # cell size H in MODE (trials | incremental) as given, then with each budget doubled (Newton's
-# iterations, the number of halvings to the smallest load step) and min_stiffness halved, one
+# iterations, the halvings to the smallest load or reduction step) and min_stiffness halved, one
 # change at a time. Prints a Markdown table: a factor that moves by more than the search
 # tolerance when a budget is doubled depends on the budget, not on the slope.
 #   [THREADS=n] scripts/fos_budget_study.sh CASE H MODE [OUT_DIR]   (talus from build/, or $TALUS)
@@ -18,10 +18,19 @@ iterations=$(value max_newton_iterations); min_dt=$(value min_dt); min_stiffness
 iterations=${iterations:-12}; min_stiffness=${min_stiffness:-0.1}
 [ -n "$min_dt" ] || { echo "$0: $case_file sets no time.min_dt" >&2; exit 2; }
 
+half() { awk -v d="$1" 'BEGIN { printf "%.10g", d / 2 }'; }
+# The smallest step: the loading's time.min_dt, and in the incremental mode also the reduction
+# steps' min_step (a 64th of the tolerance unless the case sets it).
+smallest="time.min_dt=$(half "$min_dt")"
+if [ "$mode" = incremental ]; then
+  tolerance=$(value tolerance); min_step=$(value min_step)
+  min_step=${min_step:-$(awk -v t="${tolerance:-0.01}" 'BEGIN { printf "%.10g", t / 64 }')}
+  smallest="$smallest strength_reduction.min_step=$(half "$min_step")"
+fi
 variants=(
   "as given|"
   "max_newton_iterations x2|solver.max_newton_iterations=$((2 * iterations))"
-  "min_dt / 2|time.min_dt=$(awk -v d="$min_dt" 'BEGIN { printf "%.10g", d / 2 }')"
+  "smallest step / 2|$smallest"
   "min_stiffness / 2|strength_reduction.min_stiffness=$(awk -v s="$min_stiffness" 'BEGIN { printf "%g", s / 2 }')"
 )
 echo "| $(basename "$case_file") h = $h, $mode | factor | bracket | Newton iterations | CPU [s] |"
@@ -30,7 +39,7 @@ for v in "${variants[@]}"; do
   label="${v%%|*}"; override="${v#*|}"
   dir="$out/$(echo "$label" | tr -c 'a-z0-9\n' '_')"
   args=(--threads "${THREADS:-0}" --set "grid.cell_size=$h" --set "strength_reduction.mode=$mode")
-  [ -z "$override" ] || args+=(--set "$override")
+  for o in $override; do args+=(--set "$o"); done
   "$talus" fos "$case_file" --out "$dir" --force "${args[@]}" > "$dir.log" 2>&1 || true
   line=$(grep "factor of safety" "$dir.log" | tail -1)
   [ -n "$line" ] || { echo "$0: no factor in $dir.log" >&2; exit 1; }

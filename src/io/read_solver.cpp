@@ -241,7 +241,7 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
 StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
   const Map m(*this, it,
               {"lower", "upper", "tolerance", "max_trials", "probe", "min_stiffness",
-               "displacement_limit", "mode"});
+               "displacement_limit", "mode", "min_step"});
   StrengthReductionSpec s;
   s.where = locate(m.self());
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
@@ -289,6 +289,16 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
     s.displacement_limit = positive(m["displacement_limit"]);
   if (m.has("mode"))
     s.mode = choice(m["mode"], strength_reduction_mode_choices());
+  if (m.has("min_step")) {
+    const Item step = m["min_step"];
+    if (s.mode != StrengthReductionMode::Incremental)
+      fail(step, "'min_step' is the incremental mode's smallest change of F; the trials mode "
+                 "cuts its load steps back to time.min_dt");
+    s.min_step = positive(step);
+    if (*s.min_step > s.tolerance)
+      fail(step, fmt::format("must be at most the tolerance ({:g}), the largest step (got {:g})",
+                             s.tolerance, *s.min_step));
+  }
   return s;
 }
 

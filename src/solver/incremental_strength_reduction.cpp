@@ -73,12 +73,14 @@ CaseSpec staged_case(const CaseSpec& spec, FactorPath& path) {
     ramp.name = fmt::format("reduce_{}", j);
     ramp.analysis = AnalysisType::ImplicitQuasistatic;
     ramp.strength_factor = factor;
-    // A power of two so that the steps land on the stage's end; a quarter of it for the
-    // cut-backs of a hard step.
+    // A power of two so that the steps land on the stage's end. Cut-backs go down to
+    // min_step: near the limit the F step that Newton can take from the last converged state
+    // shrinks with the cell size (the same slip is a larger strain in a thinner band), and a
+    // stall at a coarser step is no evidence of a mechanism.
     const double dt = std::exp2(-std::ceil(std::log2(span / settings.tolerance)));
     ramp.time.end_time = 1.0;
     ramp.time.dt = std::min(dt, 1.0);
-    ramp.time.min_dt = *ramp.time.dt / 4.0;
+    ramp.time.min_dt = std::min(*ramp.time.dt, settings.smallest_step() / span);
     ramp.time.max_steps = static_cast<Index>(8.0 / *ramp.time.min_dt);
     staged.stages.push_back(ramp);
     path.factors.push_back(factor);
@@ -190,13 +192,15 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
     failed.failed = true;
     failed.factor = path.at(run.final_time + path.min_step_after(run.final_time));
     const auto mechanism = stat("newton_stalled") > 0
-                               ? stall_mechanism(settings, stiffness_path, failed.factor, 1.0, "")
+                               ? stall_mechanism(settings, stiffness_path, failed.factor,
+                                                 end.factor + settings.tolerance, 1.0, "")
                                : std::nullopt;
+    fos.upper = mechanism ? mechanism->limit_by : failed.factor;
     if (mechanism) {
       failed.end = TrialEnd::LimitPoint;
       failed.reason =
           fmt::format("failed: Newton did not converge beyond F = {:.6g}, where {}: a mechanism",
-                      end.factor, *mechanism);
+                      end.factor, mechanism->why);
     } else if (stat("newton_stalled") > 0) {
       failed.end = TrialEnd::NewtonBudget;
       failed.reason = fmt::format(
@@ -208,7 +212,6 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
       failed.reason = "failed: " + run.message;
     }
     fos.lower = end.factor;
-    fos.upper = failed.factor;
     fos.trials.push_back(failed);
   }
   fos.bracketed = fos.upper - fos.lower <= settings.tolerance * (1.0 + 1e-9);

@@ -177,20 +177,27 @@ const char* to_string(TrialEnd end) {
   return "?";
 }
 
-std::optional<std::string> stall_mechanism(const StrengthReductionSpec& settings,
-                                           const StiffnessPath& path, double failed_at,
-                                           double scale, const char* unit) {
+std::optional<StallMechanism> stall_mechanism(const StrengthReductionSpec& settings,
+                                              const StiffnessPath& path, double failed_at,
+                                              double reach, double scale, const char* unit) {
   if (path.stiffness.empty())
     return std::nullopt;
   const double stiffness = path.stiffness.back();
   if (stiffness < kStallStiffness * settings.min_stiffness)
-    return fmt::format("the current stiffness {:.3g} was below {:g} min_stiffness", stiffness,
-                       kStallStiffness);
+    return StallMechanism{fmt::format("the current stiffness {:.3g} was below {:g} min_stiffness",
+                                      stiffness, kStallStiffness),
+                          failed_at};
   const double limit = path.extrapolated_limit();
   if (limit <= failed_at)
-    return fmt::format("the current stiffness {:.3g} extrapolates to zero at {:.4g}{}, within "
-                       "the step it could not take",
-                       stiffness, scale * limit, unit);
+    return StallMechanism{fmt::format("the current stiffness {:.3g} extrapolates to zero at "
+                                      "{:.4g}{}, within the step it could not take",
+                                      stiffness, scale * limit, unit),
+                          failed_at};
+  if (limit <= reach && path.falling_faster())
+    return StallMechanism{fmt::format("the current stiffness {:.3g}, falling faster with each "
+                                      "step, extrapolates to zero at {:.4g}{}",
+                                      stiffness, scale * limit, unit),
+                          limit};
   return std::nullopt;
 }
 
@@ -202,6 +209,15 @@ double StiffnessPath::extrapolated_limit() const {
   if (!(slope < 0))
     return std::numeric_limits<double>::infinity();
   return control[n - 1] - stiffness[n - 1] / slope;
+}
+
+bool StiffnessPath::falling_faster() const {
+  const std::size_t n = stiffness.size();
+  if (n < 3)
+    return false;
+  const double last = (stiffness[n - 1] - stiffness[n - 2]) / (control[n - 1] - control[n - 2]);
+  const double before = (stiffness[n - 2] - stiffness[n - 3]) / (control[n - 2] - control[n - 3]);
+  return before < 0 && last <= before;
 }
 
 std::function<std::optional<std::string>(const StepState&)>
@@ -253,12 +269,13 @@ StrengthTrial classify_trial(const StrengthReductionSpec& settings, double facto
     trial.reason = fmt::format("failed: {} (crest moved {:.4g} m; {})", run.message, moved, effort);
   } else if (const auto mechanism =
                  stat("newton_stalled") > 0
-                     ? stall_mechanism(settings, path, trial.load_reached + min_step, 100.0, " %")
+                     ? stall_mechanism(settings, path, trial.load_reached + min_step, 1.0, 100.0,
+                                       " %")
                      : std::nullopt) {
     trial.end = TrialEnd::LimitPoint;
     trial.reason = fmt::format("failed: Newton did not converge beyond {:.1f} % of the load, "
                                "where {}: a mechanism (crest moved {:.4g} m; {})",
-                               100.0 * trial.load_reached, *mechanism, moved, effort);
+                               100.0 * trial.load_reached, mechanism->why, moved, effort);
   } else if (run.exit_code != 0 && stat("newton_stalled") > 0) {
     trial.end = TrialEnd::NewtonBudget;
     trial.reason = fmt::format(

@@ -136,6 +136,12 @@ TEST(StrengthReduction, ReadsTheSectionWithDefaults) {
   const CaseSpec limited = read_case_text(
       with(kSlope, "probe: crest}", "probe: crest, displacement_limit: 0.5}"), "case.yaml");
   EXPECT_DOUBLE_EQ(*limited.strength_reduction->displacement_limit, 0.5);
+  // The incremental mode's smallest step: a 64th of the tolerance unless given.
+  EXPECT_DOUBLE_EQ(spec.strength_reduction->smallest_step(), 0.5 / 64);
+  const CaseSpec stepped = read_case_text(
+      with(kSlope, "probe: crest}", "probe: crest, mode: incremental, min_step: 0.001}"),
+      "case.yaml");
+  EXPECT_DOUBLE_EQ(stepped.strength_reduction->smallest_step(), 0.001);
 }
 
 TEST(StrengthReduction, RefusesSectionsItCannotSearch) {
@@ -152,6 +158,12 @@ TEST(StrengthReduction, RefusesSectionsItCannotSearch) {
             std::string::npos);
   EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, min_stiffness: 0}"))
                 .find("min_stiffness"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, min_step: 0.01}"))
+                .find("'min_step' is the incremental mode's"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, mode: incremental, min_step: 1}"))
+                .find("must be at most the tolerance (0.5)"),
             std::string::npos);
   EXPECT_NE(error_of(with(kSlope, "analysis: implicit_quasistatic", "analysis: implicit_dynamic"))
                 .find("needs 'analysis: implicit_quasistatic'"),
@@ -346,6 +358,27 @@ TEST(StrengthReduction, ClassifiesATrialByHowItsRunEnded) {
   EXPECT_NE(t.reason.find("extrapolates to zero at 82.5 %"), std::string::npos) << t.reason;
   stalled.final_time = 0.75;
   EXPECT_EQ(classify(settings, 1.6, stalled, 1, 0.1, 0, softening).end, TrialEnd::NewtonBudget);
+  // ... and a mechanism when the stiffness falls faster with each step and its line reaches zero
+  // before the full load: from 0.7 at 70 % to 0.4 at 80 % (three times the slope of the step
+  // before) it extrapolates to zero at 93.3 %, beyond the step Newton could not take (83.1 %).
+  // Falling ever faster, the curve meets zero before its line does: the full load is out of
+  // reach. The same last two steps after a steeper one are a decline that slows down: undecided.
+  stalled.final_time = 0.8;
+  t = classify(settings, 1.6, stalled, 1, 0.1, 0, StiffnessPath{{0.5, 0.7, 0.8}, {0.9, 0.7, 0.4}});
+  EXPECT_EQ(t.end, TrialEnd::LimitPoint) << t.reason;
+  EXPECT_NE(t.reason.find("falling faster with each step, extrapolates to zero at 93.33 %"),
+            std::string::npos)
+      << t.reason;
+  EXPECT_EQ(
+      classify(settings, 1.6, stalled, 1, 0.1, 0, StiffnessPath{{0.5, 0.7, 0.8}, {1.5, 0.7, 0.4}})
+          .end,
+      TrialEnd::NewtonBudget);
+  // ... nor when the line's zero lies beyond the full load: 0.55 at 80 % after 0.7 at 70 %.
+  EXPECT_EQ(
+      classify(settings, 1.6, stalled, 1, 0.1, 0, StiffnessPath{{0.5, 0.7, 0.8}, {0.9, 0.7, 0.55}})
+          .end,
+      TrialEnd::NewtonBudget);
+  stalled.final_time = 0.75;
   // ... and a mechanism when the slope has already lost most of its stiffness: below
   // kStallStiffness min_stiffness (0.2 with the default 0.1), whatever the trend.
   StiffnessPath soft{{0.5, 0.75}, {0.16, 0.15}};
@@ -375,6 +408,29 @@ TEST(StrengthReduction, ExtrapolatesTheStiffnessToItsLimitPoint) {
   EXPECT_TRUE(std::isinf(StiffnessPath{{0.5, 0.75}, {0.8, 0.8}}.extrapolated_limit()));
   EXPECT_TRUE(std::isinf(StiffnessPath{{0.5, 0.75}, {0.5, 0.8}}.extrapolated_limit()));
   EXPECT_TRUE(std::isinf(StiffnessPath{{0.5}, {0.1}}.extrapolated_limit()));
+  // Falling faster: the last step's slope at least as steep as the one before, both falling.
+  EXPECT_TRUE((StiffnessPath{{1.0, 1.1, 1.15}, {0.9, 0.8, 0.7}}.falling_faster()));
+  EXPECT_TRUE(
+      (StiffnessPath{{1.0, 1.1, 1.2}, {0.9, 0.8, 0.7}}.falling_faster())); // a straight line
+  EXPECT_FALSE((StiffnessPath{{1.0, 1.1, 1.3}, {0.9, 0.8, 0.7}}.falling_faster()));
+  EXPECT_FALSE((StiffnessPath{{1.0, 1.1, 1.2}, {0.8, 0.8, 0.7}}.falling_faster())); // flat first
+  EXPECT_FALSE((StiffnessPath{{1.1, 1.2}, {0.8, 0.1}}.falling_faster()));           // two steps
+}
+
+// In the incremental run the reach is the search tolerance above the last factor that stood,
+// and the bracket's failing end the line's zero when it lies beyond the failed step.
+TEST(StrengthReduction, StallMechanismBoundsTheLimitPoint) {
+  StrengthReductionSpec settings;
+  const StiffnessPath path{{1.59, 1.60, 1.604}, {0.9, 0.8, 0.7}}; // slopes -10, -25
+  // zero at 1.604 + 0.7 / 25 = 1.632: within a tolerance of 0.04 above 1.604, not of 0.02.
+  const auto m = stall_mechanism(settings, path, 1.605, 1.604 + 0.04, 1.0, "");
+  ASSERT_TRUE(m);
+  EXPECT_NEAR(m->limit_by, 1.632, 1e-12);
+  EXPECT_FALSE(stall_mechanism(settings, path, 1.605, 1.604 + 0.02, 1.0, ""));
+  // Within the failed step, the step's end bounds it.
+  const auto within = stall_mechanism(settings, path, 1.64, 1.604 + 0.02, 1.0, "");
+  ASSERT_TRUE(within);
+  EXPECT_DOUBLE_EQ(within->limit_by, 1.64);
 }
 
 // The hook ends an implicit run after the step it objects to: status "stopped" with its

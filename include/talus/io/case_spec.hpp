@@ -310,7 +310,12 @@ struct StrengthReductionSpec {
   /// serviceability limit). None: only the stiffness criterion decides.
   std::optional<double> displacement_limit;
   StrengthReductionMode mode = StrengthReductionMode::Trials;
+  /// -, incremental mode: the smallest change of F a reduction step may be cut back to (the
+  /// ramps' min_dt); none: tolerance / 64.
+  std::optional<double> min_step;
   SourceLocation where;
+
+  double smallest_step() const { return min_step.value_or(tolerance / 64.0); }
 };
 
 /// A stage ends early, "at rest", once the kinetic energy has stayed at or below

@@ -51,6 +51,11 @@ struct StiffnessPath {
   /// Where the stiffness, extended as a straight line through the last two steps, reaches
   /// zero: the limit point the loading was heading for; +infinity while it is not falling.
   double extrapolated_limit() const;
+  /// Whether the stiffness fell over each of the last two steps, over the last at least as
+  /// steeply as over the one before. Near a limit point the stiffness falls ever faster (as
+  /// sqrt(limit - control) at a smooth one), so the straight line of extrapolated_limit() runs
+  /// above the curve and the limit point comes before the line's zero.
+  bool falling_faster() const;
 };
 
 /// What the loading at one trial factor found.
@@ -73,13 +78,24 @@ struct StrengthTrial {
 /// unloaded elastically in the last step are stiff in it) while Newton can no longer follow.
 constexpr double kStallStiffness = 2.0;
 
+/// A mechanism met by Newton's failure at the smallest step: why, and the control by which
+/// the limit point lies (the end of the step Newton could not take, or the stiffness's
+/// extrapolated zero when that comes later).
+struct StallMechanism {
+  std::string why;
+  double limit_by = 0;
+};
+
 /// Whether Newton's failure at the smallest step, after the converged steps of `path`, met a
-/// mechanism, and which: the last stiffness below kStallStiffness min_stiffness, or its
-/// trend reaching zero by `failed_at`, the control at the end of the step Newton could not
-/// take. The description names the control times `scale`, with `unit` ("%", or "" for F).
-std::optional<std::string> stall_mechanism(const StrengthReductionSpec& settings,
-                                           const StiffnessPath& path, double failed_at,
-                                           double scale, const char* unit);
+/// mechanism, and which: the last stiffness below kStallStiffness min_stiffness; or its trend
+/// reaching zero by `failed_at`, the control at the end of the step Newton could not take; or,
+/// falling ever faster (StiffnessPath::falling_faster), reaching zero by `reach`, the control
+/// that still decides the question (the full load of a trial; in the incremental run the
+/// search tolerance above the last factor that stood). The description names the control
+/// times `scale`, with `unit` ("%", or "" for F).
+std::optional<StallMechanism> stall_mechanism(const StrengthReductionSpec& settings,
+                                              const StiffnessPath& path, double failed_at,
+                                              double reach, double scale, const char* unit);
 
 /// What a trial's run says about the trial factor: it stood (the full load, the crest within
 /// `displacement_limit`) or failed, and why (TrialEnd): stopped during the loading by the
