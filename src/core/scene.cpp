@@ -354,6 +354,8 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
   for (int d = 0; d < Dim; ++d)
     cells[d] = static_cast<Index>(std::llround(g.extent[d] / g.cell_size));
   scene.grid = Grid<Dim>(head<Dim>(g.origin), g.cell_size, cells);
+  scene.decomposition =
+      std::make_shared<const Decomposition<Dim>>(Decomposition<Dim>::single(scene.grid));
 
   for (const MaterialSpec& m : spec.materials)
     scene.materials.push_back(make_material(m));

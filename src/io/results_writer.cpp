@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -205,6 +206,58 @@ void check_size(std::size_t size, Index n, const char* what) {
                                 std::to_string(n));
 }
 
+/// Where a frame dataset's values come from: the particle array (its name and length) and how
+/// its rows are appended to a buffer, or for an integer dataset the array itself.
+struct FrameSource {
+  const char* array = "";
+  std::size_t length = 0;
+  std::function<void(std::vector<double>&)> append;
+  const Array<int>* integers = nullptr;
+};
+
+template <int Dim>
+FrameSource frame_source(const std::string& name, const Particles<Dim>& p,
+                         const FramePost<Dim>& post) {
+  const auto vectors = [](const Array<Vec<Dim>>& a) {
+    return [&a](std::vector<double>& buf) {
+      for (const Vec<Dim>& v : a)
+        buf.insert(buf.end(), v.data(), v.data() + Dim);
+    };
+  };
+  const auto scalars = [](const std::vector<double>& a) {
+    return [&a](std::vector<double>& buf) { buf.insert(buf.end(), a.begin(), a.end()); };
+  };
+  if (name == "position")
+    return {"x", p.x.size(), vectors(p.x)};
+  if (name == "velocity")
+    return {"v", p.v.size(), vectors(p.v)};
+  if (name == "reference_position")
+    return {"x0", p.x0.size(), vectors(p.x0)};
+  if (name == "mass")
+    return {"mass", p.mass.size(), scalars(p.mass)};
+  if (name == "volume")
+    return {"volume", p.volume.size(), scalars(p.volume)};
+  if (name == "plastic_strain")
+    return {"plastic strain", post.plastic_strain->size(), scalars(*post.plastic_strain)};
+  if (name == "F")
+    return {"F", p.F.size(), [&p](std::vector<double>& buf) {
+              for (const Mat3& F : p.F)
+                for (int r = 0; r < 3; ++r)
+                  for (int c = 0; c < 3; ++c)
+                    buf.push_back(F(r, c));
+            }};
+  if (name == "stress")
+    return {"stress", p.stress.size(), [&p](std::vector<double>& buf) {
+              for (const Mat3& s : p.stress)
+                append_tensor6(buf, s);
+            }};
+  if (name == "material")
+    return {"material", p.material.size(), {}, &p.material};
+  if (name == "body")
+    return {"body", p.body.size(), {}, &p.body};
+  throw std::logic_error("ResultsWriter: no particle array for frame dataset " + name);
+}
+
 } // namespace
 
 ResultsWriter::ResultsWriter(std::filesystem::path dir, RunMetadata metadata)
@@ -384,35 +437,20 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p
   h5::quiet();
   const Index n = p.size();
   const auto datasets = h5::frame_datasets(fields, Dim);
+  if (std::find(fields.begin(), fields.end(), OutputField::PlasticStrain) != fields.end() &&
+      !post.plastic_strain)
+    throw std::invalid_argument(
+        "ResultsWriter::write_frame: field plastic_strain requested without its values");
+  // Every array checked before anything is written.
+  std::vector<FrameSource> sources;
   for (const auto& d : datasets) {
-    const std::string name = d.name;
-    if (name == "velocity")
-      check_size(p.v.size(), n, "v");
-    else if (name == "mass")
-      check_size(p.mass.size(), n, "mass");
-    else if (name == "volume")
-      check_size(p.volume.size(), n, "volume");
-    else if (name == "F")
-      check_size(p.F.size(), n, "F");
-    else if (name == "stress")
-      check_size(p.stress.size(), n, "stress");
-    else if (name == "material")
-      check_size(p.material.size(), n, "material");
-    else if (name == "body")
-      check_size(p.body.size(), n, "body");
-    else if (name == "reference_position")
-      check_size(p.x0.size(), n, "x0");
+    sources.push_back(frame_source(d.name, p, post));
+    check_size(sources.back().length, n, sources.back().array);
   }
   if (post.stress)
     check_size(post.stress->smoothed_stress.size(), n, "smoothed stress");
   if (post.voxels)
     check_size(post.voxels->corners.size(), n, "voxel corners");
-  if (std::find(fields.begin(), fields.end(), OutputField::PlasticStrain) != fields.end()) {
-    if (!post.plastic_strain)
-      throw std::invalid_argument(
-          "ResultsWriter::write_frame: field plastic_strain requested without its values");
-    check_size(post.plastic_strain->size(), n, "plastic strain");
-  }
 
   const auto& f = h5_path_;
   const std::string gname = h5::frame_group_name(frames_);
@@ -436,34 +474,17 @@ void ResultsWriter::write_frame(Index step, double time, const Particles<Dim>& p
 
     const auto un = static_cast<std::size_t>(n);
     const auto hn = static_cast<hsize_t>(n);
-    for (const auto& d : datasets) {
-      const std::string name = d.name;
-      if (d.integer) {
-        const auto& src = name == "material" ? p.material : p.body;
-        std::vector<std::int32_t> buf(src.begin(), src.end());
+    for (std::size_t k = 0; k < datasets.size(); ++k) {
+      const auto& d = datasets[k];
+      const FrameSource& src = sources[k];
+      if (src.integers) {
+        std::vector<std::int32_t> buf(src.integers->begin(), src.integers->end());
         write_dataset(g.get(), gname, d, hn, buf, f);
         continue;
       }
       std::vector<double> buf;
       buf.reserve(un * static_cast<std::size_t>(std::max(d.columns, 1)));
-      if (name == "position" || name == "velocity" || name == "reference_position") {
-        const auto& src = name == "position" ? p.x : name == "velocity" ? p.v : p.x0;
-        for (std::size_t i = 0; i < un; ++i)
-          buf.insert(buf.end(), src[i].data(), src[i].data() + Dim);
-      } else if (name == "mass" || name == "volume") {
-        const auto& src = name == "mass" ? p.mass : p.volume;
-        buf.assign(src.begin(), src.end());
-      } else if (name == "F") {
-        for (std::size_t i = 0; i < un; ++i)
-          for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c)
-              buf.push_back(p.F[i](r, c));
-      } else if (name == "stress") {
-        for (std::size_t i = 0; i < un; ++i)
-          append_tensor6(buf, p.stress[i]);
-      } else if (name == "plastic_strain") {
-        buf = *post.plastic_strain;
-      }
+      src.append(buf);
       write_dataset(g.get(), gname, d, hn, buf, f);
     }
     if (post.stress) {

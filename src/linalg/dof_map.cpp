@@ -7,14 +7,14 @@
 
 namespace talus {
 
-DofMap::DofMap(int share, std::vector<Index> overlap_nodes, int dim,
-               std::span<const Index> global_node_dofs, std::span<const int> node_owner)
-    : share_(share), dim_(dim), nodes_(std::move(overlap_nodes)) {
+DofMap::DofMap(int share, std::vector<Index> overlap_nodes, const NodeDofs& global,
+               std::span<const int> node_owner)
+    : share_(share), layout_(global.layout()), nodes_(std::move(overlap_nodes)) {
   const auto node_count = static_cast<Index>(node_owner.size());
-  if (dim <= 0 || global_node_dofs.size() != at(dim * node_count))
+  const std::span<const Index> global_node_dofs = global.table();
+  if (global.nodes() != node_count)
     throw std::invalid_argument(
-        fmt::format("DofMap: {} global DOF slots for {} nodes of dimension {}",
-                    global_node_dofs.size(), node_count, dim));
+        fmt::format("DofMap: unknowns of {} nodes for {} owners", global.nodes(), node_count));
   std::sort(nodes_.begin(), nodes_.end());
   nodes_.erase(std::unique(nodes_.begin(), nodes_.end()), nodes_.end());
   node_state_.assign(node_owner.size(), kOutside);
@@ -30,8 +30,9 @@ DofMap::DofMap(int share, std::vector<Index> overlap_nodes, int dim,
       throw std::invalid_argument(
           fmt::format("DofMap: node {} of share {} has no owning share", n, share));
     node_state_[at(n)] = owner == share ? kOwned : kGhost;
-    for (int a = 0; a < dim; ++a) {
-      const std::size_t slot = at(dim * n + a);
+    const int width = layout_.width();
+    for (int k = 0; k < width; ++k) {
+      const std::size_t slot = at(width * n + k);
       local_dofs_[slot] = kNoDof;
       if (const Index gid = global_node_dofs[slot]; gid >= 0)
         (owner == share ? owned : ghosts).emplace_back(gid, slot);

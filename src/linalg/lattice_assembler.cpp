@@ -53,13 +53,14 @@ template <int Dim> void LatticeAssembler<Dim>::allocate_neighbour_tables() {
   slot_code_.resize(node_of_slot_.size());
   slot_ijk_.resize(node_of_slot_.size());
   complete_.resize(node_of_slot_.size());
+  unknowns_.resize(node_of_slot_.size());
   for (std::size_t s = 0; s < node_of_slot_.size(); ++s) {
     slot_code_[s] = lattice_code(node_of_slot_[s]);
     slot_ijk_[s] = nodes_->ijk(node_of_slot_[s]);
-    complete_[s] =
-        std::all_of(component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim),
-                    component_offset_.begin() + static_cast<std::ptrdiff_t>(s * Dim + Dim),
-                    [](int o) { return o >= 0; });
+    const auto first = component_offset_.begin() + static_cast<std::ptrdiff_t>(s * at(width_));
+    unknowns_[s] =
+        static_cast<int>(std::count_if(first, first + width_, [](int o) { return o >= 0; }));
+    complete_[s] = unknowns_[s] == width_;
   }
 }
 
@@ -79,12 +80,6 @@ template <int Dim> void LatticeAssembler<Dim>::mark_pairs(std::span<const Index>
 // start in l's columns; then the columns in the order of the unknowns.
 template <int Dim> void LatticeAssembler<Dim>::build_columns() {
   const auto slots = node_of_slot_.size();
-  auto unknowns_of = [&](std::size_t s) {
-    int count = 0;
-    for (int a = 0; a < Dim; ++a)
-      count += component_offset_[s * Dim + at(a)] >= 0;
-    return count;
-  };
   std::vector<Index> neighbours_begin(slots + 1, 0), neighbours;
   std::vector<int> rows_of_slot(slots, 0);
   struct Coupled {
@@ -107,7 +102,7 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
     for (const Coupled& n : coupled) {
       row[n.code] = position;
       neighbours.push_back(n.slot);
-      position += unknowns_of(at(n.slot));
+      position += unknowns_[at(n.slot)];
     }
     rows_of_slot[l] = position;
     neighbours_begin[l + 1] = static_cast<Index>(neighbours.size());
@@ -115,9 +110,8 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
 
   slot_of_dof_.assign(at(size_), -1);
   for (std::size_t s = 0; s < slots; ++s)
-    for (int a = 0; a < Dim; ++a)
-      if (const int o = component_offset_[s * Dim + at(a)]; o >= 0)
-        slot_of_dof_[at(first_dof_[s] + o)] = static_cast<int>(s);
+    for (int o = 0; o < unknowns_[s]; ++o) // a node's unknowns are consecutive
+      slot_of_dof_[at(first_dof_[s] + o)] = static_cast<int>(s);
   std::vector<int> outer(at(size_) + 1, 0);
   long long nonzeros = 0;
   for (Index c = 0; c < size_; ++c) {
@@ -137,9 +131,8 @@ template <int Dim> void LatticeAssembler<Dim>::build_columns() {
       continue;
     for (Index e = neighbours_begin[at(l)]; e < neighbours_begin[at(l) + 1]; ++e) {
       const auto k = at(neighbours[at(e)]);
-      for (int a = 0; a < Dim; ++a)
-        if (const int o = component_offset_[k * Dim + at(a)]; o >= 0)
-          inner.push_back(static_cast<int>(first_dof_[k] + o));
+      for (int o = 0; o < unknowns_[k]; ++o)
+        inner.push_back(static_cast<int>(first_dof_[k] + o));
     }
   }
   same_structure_ = matrix_.rows() == size_ && matrix_.nonZeros() == nonzeros &&
@@ -199,12 +192,21 @@ int LatticeAssembler<Dim>::row_start(std::size_t k, std::size_t l,
 // pair), then per component of l one column, whose entries of node k are contiguous. Each entry
 // receives one term per block, so the sums keep the order in which the blocks arrive.
 template <int Dim>
-void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
-                                      const Eigen::Ref<const Eigen::MatrixXd>& K) {
+template <int kCount, int kWidth>
+void LatticeAssembler<Dim>::add_components(std::span<const Index> nodes, int row_first,
+                                           int row_count, int col_first, int col_count,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& K) {
+  static_assert(kWidth == 0 || kWidth == kCount, "a fixed width is a one-field layout's");
+  const int rows_per_node = kCount > 0 ? kCount : row_count;
+  const int cols_per_node = kCount > 0 ? kCount : col_count;
+  const auto width = at(kWidth > 0 ? kWidth : width_);
+  if constexpr (kWidth > 0)
+    row_first = col_first = 0;
   const auto m = static_cast<Eigen::Index>(nodes.size());
-  if (K.rows() != Dim * m || K.cols() != Dim * m)
-    throw std::invalid_argument("LatticeAssembler: a block must have Dim rows and columns per "
-                                "node");
+  if (K.rows() != rows_per_node * m || K.cols() != cols_per_node * m)
+    throw std::invalid_argument(fmt::format("LatticeAssembler: a block over {} nodes must have {} "
+                                            "rows and {} columns per node",
+                                            m, rows_per_node, cols_per_node));
   gather_slots(nodes);
   scratch_starts_.resize(nodes.size());
   const int* outer = matrix_.outerIndexPtr();
@@ -215,24 +217,24 @@ void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
       continue;
     for (std::size_t k = 0; k < nodes.size(); ++k)
       scratch_starts_[k] = scratch_slots_[k] < 0 ? -1 : row_start(k, l, nodes);
-    const int* ol = component_offset_.data() + at(sl) * Dim;
-    for (int b = 0; b < Dim; ++b) {
+    const int* ol = component_offset_.data() + at(sl) * width + at(col_first);
+    for (int b = 0; b < cols_per_node; ++b) {
       if (ol[b] < 0)
         continue;
       double* column = values + outer[first_dof_[at(sl)] + ol[b]];
-      const double* k_col = K.col(Dim * static_cast<Eigen::Index>(l) + b).data();
+      const double* k_col = K.col(cols_per_node * static_cast<Eigen::Index>(l) + b).data();
       for (std::size_t k = 0; k < nodes.size(); ++k) {
         const Index sk = scratch_slots_[k];
         if (sk < 0)
           continue;
         double* rows = column + scratch_starts_[k];
-        const double* terms = k_col + Dim * k;
-        const int* ok = component_offset_.data() + at(sk) * Dim;
+        const double* terms = k_col + at(rows_per_node) * k;
+        const int* ok = component_offset_.data() + at(sk) * width + at(row_first);
         if (complete_[at(sk)]) {
-          for (int a = 0; a < Dim; ++a)
-            rows[a] += terms[a];
+          for (int a = 0; a < rows_per_node; ++a)
+            rows[row_first + a] += terms[a];
         } else {
-          for (int a = 0; a < Dim; ++a)
+          for (int a = 0; a < rows_per_node; ++a)
             if (ok[a] >= 0)
               rows[ok[a]] += terms[a];
         }
@@ -242,25 +244,60 @@ void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
 }
 
 template <int Dim>
+void LatticeAssembler<Dim>::add_block(std::span<const Index> nodes,
+                                      const Eigen::Ref<const Eigen::MatrixXd>& K, int field) {
+  const int first = layout_.offset(field), count = layout_.components(field);
+  if (width_ == Dim)
+    add_components<Dim, Dim>(nodes, first, Dim, first, Dim, K);
+  else if (count == Dim)
+    add_components<Dim, 0>(nodes, first, Dim, first, Dim, K);
+  else
+    add_components<0, 0>(nodes, first, count, first, count, K);
+}
+
+template <int Dim>
+void LatticeAssembler<Dim>::add_coupling_block(std::span<const Index> nodes, int row_field,
+                                               int col_field,
+                                               const Eigen::Ref<const Eigen::MatrixXd>& K) {
+  add_components<0, 0>(nodes, layout_.offset(row_field), layout_.components(row_field),
+                       layout_.offset(col_field), layout_.components(col_field), K);
+}
+
+// One row and column per node: the row starts are looked up only for the pairs whose
+// component has unknowns at both ends (a ghost-penalty face often lacks them at one).
+template <int Dim>
 void LatticeAssembler<Dim>::add_component_block(std::span<const Index> nodes, int a,
-                                                const Eigen::Ref<const Eigen::MatrixXd>& K) {
+                                                const Eigen::Ref<const Eigen::MatrixXd>& K,
+                                                int field) {
   const auto m = static_cast<Eigen::Index>(nodes.size());
   if (K.rows() != m || K.cols() != m)
     throw std::invalid_argument("LatticeAssembler: a component block must have one row and "
                                 "column per node");
+  if (width_ == Dim)
+    add_component<Dim>(nodes, layout_.offset(field) + a, K);
+  else
+    add_component<0>(nodes, layout_.offset(field) + a, K);
+}
+
+template <int Dim>
+template <int kWidth>
+void LatticeAssembler<Dim>::add_component(std::span<const Index> nodes, int component,
+                                          const Eigen::Ref<const Eigen::MatrixXd>& K) {
+  const auto width = at(kWidth > 0 ? kWidth : width_);
+  const auto c = at(component);
   gather_slots(nodes);
   const int* outer = matrix_.outerIndexPtr();
   double* values = matrix_.valuePtr();
   for (std::size_t l = 0; l < nodes.size(); ++l) {
     const Index sl = scratch_slots_[l];
-    if (sl < 0 || component_offset_[at(sl) * Dim + at(a)] < 0)
+    if (sl < 0 || component_offset_[at(sl) * width + c] < 0)
       continue;
-    double* column = values + outer[first_dof_[at(sl)] + component_offset_[at(sl) * Dim + at(a)]];
+    double* column = values + outer[first_dof_[at(sl)] + component_offset_[at(sl) * width + c]];
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       const Index sk = scratch_slots_[k];
-      if (sk < 0 || component_offset_[at(sk) * Dim + at(a)] < 0)
+      if (sk < 0 || component_offset_[at(sk) * width + c] < 0)
         continue;
-      column[row_start(k, l, nodes) + component_offset_[at(sk) * Dim + at(a)]] +=
+      column[row_start(k, l, nodes) + component_offset_[at(sk) * width + c]] +=
           K(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l));
     }
   }

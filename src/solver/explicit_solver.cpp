@@ -1,9 +1,11 @@
 #include "talus/solver/explicit_solver.hpp"
 
 #include "talus/core/parallel.hpp"
+#include "talus/grid/grid_state.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/parallel/node_halo.hpp"
 #include "talus/shape/shape_functions.hpp"
+#include "talus/solver/rank_sums.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,8 +35,6 @@ public:
       throw std::logic_error("APIC transfer without the points' affine velocities");
     for (const auto& material : scene.materials)
       wave_speed_.push_back(material->wave_speed());
-    if (scene.distributed())
-      halo_.emplace();
     // Stress consistent with the initial F: a plastic model's evaluation at an unchanged F
     // may still move its stress by round-off, so a resumed stage, whose stress is current,
     // does not repeat it.
@@ -45,8 +45,7 @@ public:
   void step(double dt) override {
     update_map();
     size_node_arrays();
-    if (halo_)
-      halo_->connect(*scene_.decomposition, map_.nodes());
+    halo_.connect(*scene_.decomposition, map_.nodes());
     if constexpr (Axisymmetric) {
       const auto& P = scene_.particles;
       radius_n_.resize(at(P.size()));
@@ -82,17 +81,13 @@ public:
 
   // A point that left the grid stops every rank, before any of them waits for the others' sums.
   void update_map() {
-    if (!halo_) {
-      map_.update(scene_.grid, scene_.particles);
-      return;
-    }
     std::optional<std::string> failure;
     try {
       map_.update(scene_.grid, scene_.particles);
     } catch (const NumericalError& e) {
       failure = e.what();
     }
-    if (const auto first = scene_.decomposition->comm().first_message(failure))
+    if (const auto first = ranks().first_message(failure))
       throw NumericalError(*first);
   }
 
@@ -105,67 +100,47 @@ public:
             fastest = std::max(fastest, wave_speed_[at(P.material[s])] + P.v[s].norm());
         },
         [](double& fastest, double block) { fastest = std::max(fastest, block); });
-    return cfl * scene_.grid.cell_size() /
-           (halo_ ? scene_.decomposition->comm().max(max_speed) : max_speed);
+    return cfl * scene_.grid.cell_size() / ranks().max(max_speed);
   }
 
   Energies energies() const override {
     const Energies e = particle_energies(scene_, true);
-    return halo_ ? summed_over_ranks(e, scene_.decomposition->comm()) : e;
+    return summed_over_ranks(e, ranks());
   }
 
-  FaceReactions reactions() const override {
-    if (!halo_)
-      return reactions_;
-    std::vector<double> flat;
-    for (const Vec3& r : reactions_)
-      flat.insert(flat.end(), r.data(), r.data() + 3);
-    const std::vector<double> total = scene_.decomposition->comm().sum(flat);
-    FaceReactions out{};
-    for (std::size_t f = 0; f < out.size(); ++f)
-      out[f] = Vec3(total[3 * f], total[3 * f + 1], total[3 * f + 2]);
-    return out;
-  }
+  FaceReactions reactions() const override { return summed_over_ranks(reactions_, ranks()); }
   Index active_nodes() const override { return map_.node_count(); }
 
   std::optional<StateViolation> grid_violation() const override {
-    if (auto v = find_node_violation<Dim>(map_.nodes(), velocity_, "grid velocity"))
+    if (auto v = find_node_violation<Dim>(map_.nodes(), state_.velocity, "grid velocity"))
       return v;
-    return find_node_violation<Dim>(map_.nodes(), acceleration_, "grid acceleration");
+    return find_node_violation<Dim>(map_.nodes(), state_.acceleration, "grid acceleration");
   }
 
   // The map and the grid arrays are rebuilt every step: nothing is kept per point.
   void particles_changed() override {}
 
 private:
+  const Communicator& ranks() const { return scene_.decomposition->comm(); }
   Index node_count() const { return map_.node_count(); }
   V node_position(Index n) const { return map_.nodes().position(n); }
 
   // The step's node arrays, one entry per active node, and the faces' conditions on them.
   void size_node_arrays() {
-    const auto nn = at(node_count());
-    mass_.resize(nn);
-    momentum_.resize(nn);
-    force_.resize(nn);
-    velocity_.resize(nn);
-    acceleration_.resize(nn);
-    held_.resize(nn);
-    reaction_face_.resize(nn);
+    state_.resize(node_count());
     parallel_for(node_count(), [&](Index n) {
       const auto ijk = map_.nodes().ijk(n);
-      held_[at(n)] = scene_.face_conditions.held(ijk);
-      reaction_face_[at(n)] = scene_.face_conditions.reaction_faces(ijk);
+      state_.held[at(n)] = scene_.face_conditions.held(ijk);
+      state_.reaction_face[at(n)] = scene_.face_conditions.reaction_faces(ijk);
     });
     // The nodes that report a reaction, in ascending order: the reactions' sums run over them
     // alone and in a fixed order.
     reaction_nodes_.clear();
     for (Index n = 0; n < node_count(); ++n)
-      if (std::any_of(reaction_face_[at(n)].begin(), reaction_face_[at(n)].end(),
+      if (std::any_of(state_.reaction_face[at(n)].begin(), state_.reaction_face[at(n)].end(),
                       [](std::int8_t face) { return face >= 0; }))
         reaction_nodes_.push_back(n);
   }
-
-  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
 
   // What one P2G gather collects: mass and momentum, and/or the nodal force.
   static constexpr int kMass = 1;
@@ -250,31 +225,29 @@ private:
       else
         map_.for_each_slot_weight_of(n, [&](Index q, double w) { add(q, w, V::Zero()); });
       if constexpr ((kWhat & kMass) != 0) {
-        mass_[at(n)] = m;
-        momentum_[at(n)] = apic_ ? V(mv + mC * node_position(n)) : mv;
+        state_.mass[at(n)] = m;
+        state_.momentum[at(n)] = apic_ ? V(mv + mC * node_position(n)) : mv;
       }
       if constexpr ((kWhat & kForce) != 0)
-        force_[at(n)] = f;
+        state_.force[at(n)] = f;
     });
     if constexpr ((kWhat & kForce) != 0)
       for (const SurfaceLoad<Dim>& load : scene_.surface_loads)
         for_each_surface_load_node<Dim>(
             map_.nodes(), scene_.particles, load, map_.stencil(load.particle).start, Shape::kWidth,
-            [&](Index n, double w) { force_[at(n)] += w * load.force; });
-    if (halo_) {
-      std::vector<typename NodeHalo<Dim>::Field> fields;
-      if constexpr ((kWhat & kMass) != 0) {
-        fields.push_back({mass_.data(), 1});
-        fields.push_back({reinterpret_cast<double*>(momentum_.data()), Dim});
-      }
-      if constexpr ((kWhat & kForce) != 0)
-        fields.push_back({reinterpret_cast<double*>(force_.data()), Dim});
-      halo_->sum(fields);
+            [&](Index n, double w) { state_.force[at(n)] += w * load.force; });
+    std::vector<typename NodeHalo<Dim>::Field> fields;
+    if constexpr ((kWhat & kMass) != 0) {
+      fields.push_back(NodeHalo<Dim>::field(state_.mass));
+      fields.push_back(NodeHalo<Dim>::field(state_.momentum));
     }
+    if constexpr ((kWhat & kForce) != 0)
+      fields.push_back(NodeHalo<Dim>::field(state_.force));
+    halo_.sum(fields);
   }
 
   void constrain(Index n, V& vec) const {
-    const std::uint8_t mask = held_[at(n)];
+    const std::uint8_t mask = state_.held[at(n)];
     for (int d = 0; d < Dim; ++d)
       if (mask & (1u << d))
         vec[d] = 0.0;
@@ -288,12 +261,12 @@ private:
   // stress 1e-11 E and the colliding spheres' momentum drift 1e-12 (4.5e-14 and 8e-16 now).
   void grid_velocity_from_momentum() {
     parallel_for(node_count(), [&](Index n) {
-      if (mass_[at(n)] <= 0.0) {
-        velocity_[at(n)].setZero();
+      if (state_.mass[at(n)] <= 0.0) {
+        state_.velocity[at(n)].setZero();
         return;
       }
-      velocity_[at(n)] = momentum_[at(n)] / mass_[at(n)];
-      constrain(n, velocity_[at(n)]);
+      state_.velocity[at(n)] = state_.momentum[at(n)] / state_.mass[at(n)];
+      constrain(n, state_.velocity[at(n)]);
     });
   }
 
@@ -302,21 +275,21 @@ private:
     for (auto& r : reactions_)
       r.setZero();
     for (const Index n : reaction_nodes_) {
-      if (halo_ && !halo_->counts(n))
+      if (!halo_.counts(n))
         continue; // another rank adds this node's reaction
       for (int d = 0; d < Dim; ++d)
-        if (const int face = reaction_face_[at(n)][static_cast<std::size_t>(d)]; face >= 0)
-          reactions_[static_cast<std::size_t>(face)][d] -= force_[at(n)][d];
+        if (const int face = state_.reaction_face[at(n)][static_cast<std::size_t>(d)]; face >= 0)
+          reactions_[static_cast<std::size_t>(face)][d] -= state_.force[at(n)][d];
     }
     parallel_for(node_count(), [&](Index n) {
       const auto s = at(n);
-      if (mass_[s] <= 0.0) {
-        acceleration_[s].setZero();
+      if (state_.mass[s] <= 0.0) {
+        state_.acceleration[s].setZero();
         return;
       }
-      acceleration_[s] = force_[s] / mass_[s];
-      constrain(n, acceleration_[s]);
-      velocity_[s] += dt * acceleration_[s];
+      state_.acceleration[s] = state_.force[s] / state_.mass[s];
+      constrain(n, state_.acceleration[s]);
+      state_.velocity[s] += dt * state_.acceleration[s];
     });
   }
 
@@ -335,8 +308,8 @@ private:
       const Index p = map_.point_at_slot(q);
       V a = V::Zero(), v_new = V::Zero();
       map_.for_each_node_weight_of_slot(q, [&](Index n, double w) {
-        a += w * acceleration_[at(n)];
-        v_new += w * velocity_[at(n)];
+        a += w * state_.acceleration[at(n)];
+        v_new += w * state_.velocity[at(n)];
       });
       const auto s = at(p);
       P.v[s] = flip * (P.v[s] + dt * a) + (1.0 - flip) * v_new;
@@ -356,8 +329,8 @@ private:
     V v_new = V::Zero();
     M B = M::Zero();
     map_.for_each_node_weight_of_slot(q, [&](Index n, double w) {
-      v_new += w * velocity_[at(n)];
-      B += w * velocity_[at(n)] * (node_position(n) - P.x[s]).transpose();
+      v_new += w * state_.velocity[at(n)];
+      B += w * state_.velocity[at(n)] * (node_position(n) - P.x[s]).transpose();
     });
     const double h = scene_.grid.cell_size();
     M C = M::Zero();
@@ -405,21 +378,11 @@ private:
       });
       if (apic_)
         mv += mC * node_position(n);
-      momentum_[at(n)] = mv;
+      state_.momentum[at(n)] = mv;
     });
-    if (halo_) {
-      const typename NodeHalo<Dim>::Field momentum{reinterpret_cast<double*>(momentum_.data()),
-                                                   Dim};
-      halo_->sum(std::span(&momentum, 1));
-    }
-    parallel_for(node_count(), [&](Index n) {
-      if (mass_[at(n)] <= 0.0) {
-        velocity_[at(n)].setZero();
-        return;
-      }
-      velocity_[at(n)] = momentum_[at(n)] / mass_[at(n)];
-      constrain(n, velocity_[at(n)]);
-    });
+    const typename NodeHalo<Dim>::Field momentum = NodeHalo<Dim>::field(state_.momentum);
+    halo_.sum(std::span(&momentum, 1));
+    grid_velocity_from_momentum();
   }
 
   // Velocity gradient from the grid, and F advanced with the increment that matches how the
@@ -438,9 +401,9 @@ private:
       M L = M::Zero();
       [[maybe_unused]] double v_r = 0; // the radial velocity at the point (axisymmetry)
       map_.for_each_node_of_slot(q, [&](Index n, double w, const V& grad) {
-        L += velocity_[at(n)] * grad.transpose();
+        L += state_.velocity[at(n)] * grad.transpose();
         if constexpr (Axisymmetric)
-          v_r += w * velocity_[at(n)][0];
+          v_r += w * state_.velocity[at(n)][0];
       });
       const M half = 0.5 * dt * L;
       const M dF = apic_ ? M(M::Identity() + dt * L)
@@ -464,10 +427,7 @@ private:
 
   Scene<Dim>& scene_;
   ParticleGridMap<Dim, Shape> map_;
-  std::vector<double> mass_;
-  std::vector<V> momentum_, force_, velocity_, acceleration_;
-  std::vector<std::uint8_t> held_;                          ///< per node: FaceConditions::held
-  std::vector<std::array<std::int8_t, Dim>> reaction_face_; ///< per node and component
+  GridState<Dim> state_;              ///< per active node: what the step gathers and updates
   std::vector<Index> reaction_nodes_; ///< the nodes with a reaction face, ascending
   std::vector<double> wave_speed_;    ///< per material: the stable step's wave speed
   std::vector<V> old_x_; // APIC: the points' positions at the start of the step (MUSL's remap)
@@ -477,7 +437,7 @@ private:
   std::vector<double> radius_n_;      // axisymmetry: the points' radii at the start of the step
   FaceReactions reactions_{};
   bool apic_ = false;
-  std::optional<NodeHalo<Dim>> halo_; ///< a distributed run: the nodes shared with other ranks
+  NodeHalo<Dim> halo_; ///< the nodes shared with other ranks (none on one rank)
 };
 
 /// ExplicitSolverImpl of one dimension, as a template of the shape function alone.

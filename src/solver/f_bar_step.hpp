@@ -142,7 +142,6 @@ public:
   }
 
 private:
-  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
   /// k dF over the F-bar axes (plane strain's default keeps dF33 = 1).
   Mat3 scaled(Mat3 dF, double k) const {
     if (axes_ == 3)

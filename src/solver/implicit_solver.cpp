@@ -13,6 +13,7 @@
 #include "talus/shape/shape_functions.hpp"
 #include "talus/solver/energies.hpp"
 #include "talus/solver/ghost_penalty.hpp"
+#include "talus/solver/rank_sums.hpp"
 #include "talus/solver/rigid_body_modes.hpp"
 
 #include <algorithm>
@@ -54,31 +55,10 @@ public:
     const bool symmetric =
         !f_bar_ && std::all_of(scene.materials.begin(), scene.materials.end(),
                                [](const auto& m) { return m->symmetric_tangent(); });
-    // Non-associated flow, softening and F-bar make the tangent nonsymmetric: Cholesky cannot
-    // take it, LU can (the case reader refuses an explicit symmetric-only choice). Without a
-    // choice, the size of the first step's system decides between direct and iterative.
-    const std::string& chosen = scene.spec.solver.linear_solver;
-    LinearSolverKind kind;
-    if (scene.distributed()) {
-      // Distributed, the tangent only exists as the ranks' shares: Belos solves it, CG where
-      // the tangent is symmetric (the case's direct or iterative choice alike), else GMRES.
-      comm_ = &scene.decomposition->comm();
-      kind = symmetric ? LinearSolverKind::TrilinosCg : LinearSolverKind::TrilinosGmres;
-    } else if (chosen.empty()) {
-      step_.map.update(scene.grid, scene.particles);
-      kind = automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
-    } else if (!parse_linear_solver_kind(chosen, kind)) {
-      throw std::invalid_argument("unknown linear solver " + chosen);
-    }
+    comm_ = &scene.decomposition->comm();
     LinearSolverOptions options;
-    options.kind = kind;
-    if (comm_) {
-      auto distributed = make_distributed_linear_solver(options, comm_->mpi());
-      distributed_ = distributed.get();
-      linear_ = std::move(distributed);
-    } else {
-      linear_ = make_linear_solver(options);
-    }
+    options.kind = serial_linear_solver_kind(symmetric);
+    linear_ = make_rank_linear_solver(options, symmetric, comm_->size(), comm_->mpi());
     const auto np = static_cast<std::size_t>(scene.particles.size());
     trial_F_.assign(np, Mat3::Identity());
     dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
@@ -160,7 +140,7 @@ public:
 
   Energies energies() const override {
     const Energies e = particle_energies(scene_, dynamic_);
-    return comm_ ? summed_over_ranks(e, *comm_) : e;
+    return summed_over_ranks(e, *comm_);
   }
   FaceReactions reactions() const override { return reactions_; }
   std::vector<Vec3> prescribed_reactions() const override { return prescribed_reactions_; }
@@ -194,21 +174,18 @@ public:
   }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
-  // Serial: every unknown. Distributed: the owned ones (Newton's vectors hold those).
-  Index size() const override { return comm_ ? step_.owned_dof_count : step_.dof_count; }
+  // The owned unknowns (Newton's vectors hold those; on one rank every unknown).
+  Index size() const override { return step_.owned_dof_count; }
   Index global_size() const override { return step_.global_dof_count; }
   const Communicator* communicator() const override { return comm_; }
 
-  // Serial: one share owning every node, local DOF ids the global ones. Distributed: this
-  // rank's points on the unknowns it sees, then the ranks' shares added on the owners.
+  // This rank's points on the unknowns it sees, then the ranks' shares added on the owners.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
-    if (!comm_)
-      return assemble_share(whole_, whole_map_, du, &r, nullptr);
     Eigen::VectorXd mine;
     const bool admissible =
         !comm_->any(!assemble_share(whole_, whole_map_, overlap_increment(du), &mine, nullptr));
     if (admissible)
-      distributed_->export_add(mine, r);
+      linear_->export_add(mine, r);
     return admissible;
   }
 
@@ -217,11 +194,12 @@ public:
     if (!state_matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
     // Within a step the connectivity is fixed; a new step keeps the symbolic analysis when its
-    // structure matches the last one built, whichever step or Newton attempt analysed it. A
-    // distributed step always analyses anew: its unknowns' global numbering is the step's.
+    // structure matches the last one built, whichever step or Newton attempt analysed it, and
+    // the linear solver's numbering outlives the step (not so over several ranks).
     bool built = false;
     const SparseMatrix& K = share_tangent(whole_, whole_map_, built);
-    if (built && (comm_ || !share_tangents_[0].assembler.same_structure_as_before()))
+    if (built && (!linear_->keeps_analysis_across_steps() ||
+                  !share_tangents_[0].assembler.same_structure_as_before()))
       ++pattern_generation_;
     return K;
   }
@@ -244,29 +222,24 @@ public:
       f_bar_step_.prepare(scene_.grid, scene_.particles, step_.map.node_count());
     state_valid_ = false;
     ++step_count_;
-    whole_ = {comm_ ? comm_->rank() : 0, 0, scene_.particles.size()};
-    if (comm_) {
-      // This rank's points reach every node of its step (and it assembles the ghost faces its
-      // step holds): its map covers all of them, owned first, so local ids are the step's.
-      std::vector<Index> nodes(at(step_.map.node_count()));
-      std::iota(nodes.begin(), nodes.end(), Index{0});
-      whole_map_ = DofMap(whole_.index, std::move(nodes), Dim, step_.node_dof, step_.node_owner);
-      if (whole_map_.owned_count() != step_.owned_dof_count)
-        throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
-      distributed_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
-      distributed_->set_coordinates(unknown_positions());
-    } else {
-      const ParticleShare all[] = {whole_};
-      whole_map_ = dof_map(whole_, node_owners(all));
-    }
+    whole_ = {comm_->rank(), 0, scene_.particles.size()};
+    // This rank's points reach every node of its step (and it assembles the ghost faces its
+    // step holds): its map covers all of them, owned first, so local ids are the step's.
+    std::vector<Index> nodes(at(step_.map.node_count()));
+    std::iota(nodes.begin(), nodes.end(), Index{0});
+    whole_map_ = DofMap(whole_.index, std::move(nodes), step_.dofs, step_.node_owner);
+    if (whole_map_.owned_count() != step_.owned_dof_count)
+      throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
+    linear_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
+    linear_->set_coordinates(unknown_positions());
     if (whole_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())
       linear_->set_near_null_space(
-          rigid_body_modes<Dim, Axisymmetric>(step_.map.nodes(), step_.node_dof, step_.dof_count));
+          rigid_body_modes<Dim, Axisymmetric>(step_.map.nodes(), step_.dofs, step_.dof_count));
   }
 
-  std::span<const Index> global_node_dofs() const override { return step_.node_dof; }
+  const NodeDofs& global_dofs() const override { return step_.dofs; }
 
   std::vector<int> node_owners(std::span<const ParticleShare> shares) const override {
     std::vector<int> owner(at(step_.map.node_count()), -1);
@@ -298,7 +271,7 @@ public:
   }
 
   DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const override {
-    return DofMap(share.index, touched_nodes(share, node_owner), Dim, step_.node_dof, node_owner);
+    return DofMap(share.index, touched_nodes(share, node_owner), step_.dofs, node_owner);
   }
 
   bool assemble_share(const ParticleShare& share, const DofMap& map,
@@ -320,11 +293,26 @@ public:
   }
 
 private:
-  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
+  /// The backend a step on one rank uses: the case's choice, or without one the size of the
+  /// first step's system decides between direct and iterative. Non-associated flow, softening
+  /// and F-bar make the tangent nonsymmetric: Cholesky cannot take it, LU can (the case reader
+  /// refuses an explicit symmetric-only choice).
+  LinearSolverKind serial_linear_solver_kind(bool symmetric) {
+    const std::string& chosen = scene_.spec.solver.linear_solver;
+    LinearSolverKind kind;
+    if (!chosen.empty()) {
+      if (!parse_linear_solver_kind(chosen, kind))
+        throw std::invalid_argument("unknown linear solver " + chosen);
+      return kind;
+    }
+    step_.map.update(scene_.grid, scene_.particles);
+    return automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
+  }
+
   double newmark_acceleration(Index dof, double du) const {
     return 4.0 / (dt_ * dt_) * (du - dt_ * step_.grid_v[at(dof)]) - step_.grid_a[at(dof)];
   }
-  Index dof_of(Index node, int a) const { return step_.dof_of(node, a); }
+  Index dof_of(Index node, int a) const { return step_.displacement_dof(node, a); }
 
   /// f . K^-1 f / |f|^2 for the step's external load f (owned unknowns), with the factorisation
   /// Newton used last: its tangent is within the convergence tolerance of the converged state's.
@@ -337,21 +325,15 @@ private:
     } catch (const NumericalError&) {
       return std::numeric_limits<double>::quiet_NaN();
     }
-    double fz = f.dot(z), ff = f.squaredNorm();
-    if (comm_) {
-      fz = comm_->sum(fz);
-      ff = comm_->sum(ff);
-    }
+    const double fz = comm_->sum(f.dot(z)), ff = comm_->sum(f.squaredNorm());
     return ff > 0 ? fz / ff : std::numeric_limits<double>::quiet_NaN();
   }
 
-  /// The increment on every unknown this process sees, from Newton's (a distributed run's
-  /// owned unknowns: the ghosts' values come from their owners).
+  /// The increment on every unknown this process sees, from Newton's owned unknowns (the
+  /// ghosts' values come from their owners).
   Eigen::VectorXd overlap_increment(const Eigen::VectorXd& du) const {
-    if (!comm_)
-      return du;
     Eigen::VectorXd all;
-    distributed_->import_ghosts(du, all);
+    linear_->import_ghosts(du, all);
     return all;
   }
 
@@ -359,21 +341,27 @@ private:
   Eigen::MatrixXd unknown_positions() const {
     Eigen::MatrixXd xyz(step_.dof_count, Dim);
     for (Index n = 0; n < step_.map.node_count(); ++n)
-      for (int a = 0; a < Dim; ++a)
-        if (const Index dof = dof_of(n, a); dof >= 0)
+      for (int k = 0; k < step_.dofs.layout().width(); ++k)
+        if (const Index dof = step_.dofs.dof(n, k); dof >= 0)
           xyz.row(dof) = step_.map.nodes().position(n).transpose();
     return xyz;
   }
 
-  /// Whether the map's share assembles the ghost-penalty face: the owner of its anchor node
-  /// does; a distributed rank's step holds only the faces it assembles (implicit_step_setup).
+  /// Whether the map's share assembles the ghost-penalty face: the rank's own map every face
+  /// of its step (the step holds only the faces this rank assembles: implicit_step_setup), a
+  /// share of the rank's points those whose anchor node it owns.
   bool assembles(const DofMap& map, const typename Ghost::Face& face) const {
-    return comm_ || map.owns_node(Ghost::anchor(face));
+    return &map == &whole_map_ || map.owns_node(Ghost::anchor(face));
   }
 
-  /// The local DOF of component a of node n in the share's map; refuses a node outside it.
+  /// The local DOF of displacement component a of node n in the share's map.
   static Index local_dof(const DofMap& map, Index n, int a) {
-    const Index dof = map.local_dof(n, a);
+    return local_dof_at(map, n, map.layout().offset(NodeLayout::kDisplacement) + a);
+  }
+  /// The local DOF of node n's k-th component over all fields in the share's map; refuses a
+  /// node outside it.
+  static Index local_dof_at(const DofMap& map, Index n, int k) {
+    const Index dof = map.local_dof_at(n, k);
     if (dof == DofMap::kNotInOverlap)
       throw std::invalid_argument(
           fmt::format("share {} reaches grid node {}, which is not in its DOF map (a ghost node "
@@ -406,7 +394,7 @@ private:
     V u;
     for (int a = 0; a < Dim; ++a) {
       const Index dof = local_dof(map, n, a);
-      u[a] = dof >= 0 ? du[dof] : step_.prescribed_du[at(Dim * n + a)];
+      u[a] = dof >= 0 ? du[dof] : step_.prescribed_du[at(n)][a];
     }
     return u;
   }
@@ -491,8 +479,8 @@ private:
           f(std::span<const Index>(face.nodes));
     };
     tangent.build(
-        step_.map.nodes(), map.overlap_count(),
-        [&](Index n, int a) { return local_dof(map, n, a); }, cliques);
+        step_.map.nodes(), map.layout(), map.overlap_count(),
+        [&](Index n, int k) { return local_dof_at(map, n, k); }, cliques);
   }
 
   /// The share's points grouped by their stencil (the same start, so the same nodes), groups
@@ -579,16 +567,15 @@ private:
   // unknowns at zero increment, which the prescribed increment alone produces. Without this the
   // tolerance would be relative to the no-load fallback and ask for digits nobody needs.
   void scale_by_prescribed_motion() {
-    bool moving = std::any_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
-                              [](double u) { return u != 0; });
-    if (comm_)
-      moving = comm_->any(moving);
+    const bool moving =
+        comm_->any(std::any_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
+                               [](const V& u) { return (u.array() != 0.0).any(); }));
     if (step_.global_dof_count == 0 || !moving)
       return;
     Eigen::VectorXd r;
     if (residual(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(size())), r)) {
       const double largest = r.size() ? r.lpNorm<Eigen::Infinity>() : 0.0;
-      step_.force_scale = std::max(step_.force_scale, comm_ ? comm_->max(largest) : largest);
+      step_.force_scale = std::max(step_.force_scale, comm_->max(largest));
     }
   }
 
@@ -674,13 +661,12 @@ private:
     auto& P = scene_.particles;
     const double flip = scene_.spec.solver.flip;
     // Reactions: the internal force that the constrained components carry beyond the loads.
-    std::vector<double> internal(step_.full_external.size(), 0.0);
+    std::vector<V> internal(step_.full_external.size(), V::Zero());
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       V dx = V::Zero();
       for_each_internal_force(p, [&](Index n, double w, const V& f) {
-        for (int a = 0; a < Dim; ++a)
-          internal[at(Dim * n + a)] += f[a];
+        internal[at(n)] += f;
         dx += w * node_increment(whole_map_, n, du);
       });
       const Mat3& F = trial_F_[s];
@@ -699,7 +685,7 @@ private:
           for (int c = 0; c < Dim; ++c) {
             const Index dof = dof_of(n, c);
             if (dof < 0) {
-              v_grid[c] += w * step_.prescribed_du[at(Dim * n + c)] / dt;
+              v_grid[c] += w * step_.prescribed_du[at(n)][c] / dt;
               continue;
             }
             const double a_new = newmark_acceleration(dof, du[dof]);
@@ -718,13 +704,12 @@ private:
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
     for_each_ghost_force(whole_map_, du,
-                         [&](Index n, int a, double f) { internal[at(Dim * n + a)] += f; });
+                         [&](Index n, int a, double f) { internal[at(n)][a] += f; });
     // The loads on a node are whole on every rank holding it: its owner subtracts them; the
     // internal forces are each rank's own, summed over the ranks below.
     for (Index n = 0; n < step_.map.node_count(); ++n)
       if (step_.node_owner[at(n)] == step_.rank())
-        for (int a = 0; a < Dim; ++a)
-          internal[at(Dim * n + a)] -= step_.full_external[at(Dim * n + a)];
+        internal[at(n)] -= step_.full_external[at(n)];
     prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
     for (Index n = 0; n < step_.map.node_count(); ++n) {
       const std::int32_t region = step_.node_region[at(n)];
@@ -732,32 +717,16 @@ private:
         continue;
       for (int a = 0; a < Dim; ++a)
         if (is_prescribed(n, a))
-          prescribed_reactions_[at(region)][a] += internal[at(Dim * n + a)];
+          prescribed_reactions_[at(region)][a] += internal[at(n)][a];
     }
     for (auto& r : reactions_)
       r.setZero();
     for (Index n = 0; n < step_.map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
         if (const int face = step_.reaction_face[at(n)][at(a)]; face >= 0 && !is_prescribed(n, a))
-          reactions_[static_cast<std::size_t>(face)][a] += internal[at(Dim * n + a)];
-    if (comm_)
-      sum_reactions_over_ranks();
-  }
-
-  void sum_reactions_over_ranks() {
-    std::vector<double> flat;
-    for (const auto& r : reactions_)
-      flat.insert(flat.end(), r.data(), r.data() + r.size());
-    for (const Vec3& r : prescribed_reactions_)
-      flat.insert(flat.end(), r.data(), r.data() + 3);
-    const std::vector<double> total = comm_->sum(flat);
-    std::size_t k = 0;
-    for (auto& r : reactions_)
-      for (Eigen::Index c = 0; c < r.size(); ++c)
-        r[c] = total[k++];
-    for (Vec3& r : prescribed_reactions_)
-      for (int c = 0; c < 3; ++c)
-        r[c] = total[k++];
+          reactions_[static_cast<std::size_t>(face)][a] += internal[at(n)][a];
+    reactions_ = summed_over_ranks(reactions_, *comm_);
+    prescribed_reactions_ = summed_over_ranks(std::span<const Vec3>(prescribed_reactions_), *comm_);
   }
 
   bool is_prescribed(Index n, int a) const {
@@ -767,10 +736,9 @@ private:
 
   Scene<Dim>& scene_;
   ImplicitStepSetup<Dim, Shape, Axisymmetric> step_; ///< connectivity, unknowns and loads
-  std::unique_ptr<LinearSolver> linear_;
-  const Communicator* comm_ = nullptr;             ///< a distributed run's ranks
-  DistributedLinearSolver* distributed_ = nullptr; ///< linear_, in a distributed run
-  std::vector<double> material_young_;             ///< per material, for the ghost penalty's scale
+  const Communicator* comm_ = nullptr;               ///< the run's ranks (one in a serial run)
+  std::unique_ptr<DistributedLinearSolver> linear_;
+  std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
   std::vector<M> trial_dF_;
   std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
   std::vector<Mat3> trial_F_;
@@ -778,8 +746,8 @@ private:
   bool state_valid_ = false;  ///< trial_dF_, trial_F_, response_ hold state_share_ at state_du_
   ParticleShare state_share_; ///< the points the trial state was last evaluated for
   Eigen::VectorXd state_du_;
-  ParticleShare whole_; ///< this process's points: the serial solver's one share, or a rank's
-  /// whole_'s DOF map: local ids are the step's unknowns (serially also their global ids).
+  ParticleShare whole_; ///< this rank's points
+  /// whole_'s DOF map: local ids are the step's unknowns (on one rank also their global ids).
   DofMap whole_map_;
   /// A share's tangent assembler and the step and points its structure was built for.
   struct ShareTangent {

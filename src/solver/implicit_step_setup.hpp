@@ -4,11 +4,13 @@
 // component of a node with mass that no face holds), the prescribed increments, the loads with
 // the force scale Newton's tolerance is relative to, the ghost-penalty faces, and for Newmark
 // the lumped mass with the projected velocity and acceleration per unknown
-// (implicit_solver.cpp assembles and solves on it). In a distributed run each rank sets up its
-// own points' step: the halo (parallel/node_halo.hpp) makes the node sums whole, every unknown
-// gets its global id, and the ghost-penalty faces come from a view of the neighbours' nodes.
+// (implicit_solver.cpp assembles and solves on it). Each rank sets up its own points' step (a
+// serial run is a run on one rank): the halo (parallel/node_halo.hpp) makes the node sums
+// whole, every unknown gets its global id, and the ghost-penalty faces come from a view of the
+// neighbours' nodes.
 #include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/linalg/node_layout.hpp"
 #include "talus/parallel/node_halo.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
@@ -17,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <string>
@@ -48,41 +51,39 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   /// receives its reaction (FaceConditions::reaction_faces).
   std::vector<std::int32_t> node_region;
   std::vector<std::array<std::int8_t, Dim>> reaction_face;
-  /// A distributed run: the nodes this rank shares with the others (empty in a serial run).
-  std::optional<NodeHalo<Dim>> halo;
-  std::vector<int> node_owner; ///< per node: the rank that owns it (its lowest holder; 0 serial)
-  /// Per (node, component) at Dim n + a: the unknown, -1 for none. The unknowns of the nodes
-  /// this rank owns come first (owned_dof_count of them), then those of the nodes it shares
-  /// with a lower rank; each node's components are consecutive.
-  std::vector<Index> node_dof;
+  /// The nodes this rank shares with the others (none on one rank).
+  NodeHalo<Dim> halo;
+  std::vector<int> node_owner; ///< per node: the rank that owns it (its lowest holder)
+  /// Per (node, field, component): the unknown, or none. The unknowns of the nodes this rank
+  /// owns come first (owned_dof_count of them), then those of the nodes it shares with a lower
+  /// rank; each node's components are consecutive.
+  NodeDofs dofs{NodeLayout(Dim)};
   Index owned_dof_count = 0;
-  std::vector<Index> dof_gid;        ///< per unknown: its global id (a distributed run; else empty)
-  Index global_dof_count = 0;        ///< the unknowns of every rank (owned ones counted once)
-  Index global_node_count = 0;       ///< the active nodes of every rank (each counted once)
-  std::vector<double> prescribed_du; ///< per (node, component): this step's increment
+  std::vector<Index> dof_gid;   ///< per unknown: its global id
+  Index global_dof_count = 0;   ///< the unknowns of every rank (owned ones counted once)
+  Index global_node_count = 0;  ///< the active nodes of every rank (each counted once)
+  std::vector<V> prescribed_du; ///< per node: this step's prescribed increment
   Index dof_count = 0;
-  Eigen::VectorXd external;          ///< per unknown: the load
-  std::vector<double> full_external; ///< per (node, component): the load (reactions)
+  Eigen::VectorXd external;     ///< per unknown: the load
+  std::vector<V> full_external; ///< per node: the load (reactions)
   double force_scale = 1;
   std::vector<double> dof_mass, grid_v, grid_a; ///< Newmark state per unknown (dynamic)
   GhostPenalty<Dim> ghost;
 
-  Index dof_of(Index node, int a) const { return node_dof[at(Dim * node + a)]; }
+  /// The unknown of displacement component a of a node, or a negative value.
+  Index displacement_dof(Index node, int a) const {
+    return dofs.dof(node, NodeLayout::kDisplacement, a);
+  }
 
   /// Sets everything up for the scene's points where they stand; young[m] is material m's
-  /// Young's modulus (the ghost penalty's scale). Collective in a distributed run.
+  /// Young's modulus (the ghost penalty's scale). Collective.
   void prepare(Scene<Dim>& scene, const Loading& l, const std::vector<double>& young) {
     const auto& P = scene.particles;
     update_map(scene);
-    double heaviest = sum_node_masses(scene);
-    if (halo)
-      heaviest = scene.decomposition->comm().max(heaviest);
+    const double heaviest = scene.decomposition->comm().max(sum_node_masses(scene));
     if (!scene.spec.prescribed.empty())
       place_prescribed_boxes<Dim>(scene, l.ramp_committed);
-    if (halo)
-      prepare_ghost_penalty_distributed(scene, heaviest, young);
-    else
-      prepare_ghost_penalty(scene, heaviest, young);
+    prepare_ghost_penalty(scene, heaviest, young);
     const auto nn = at(map.node_count());
     node_region.resize(nn);
     reaction_face.resize(nn);
@@ -90,29 +91,26 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
       node_region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
       reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
     }
-    node_owner.assign(nn, 0);
-    if (halo)
-      for (Index n = 0; n < map.node_count(); ++n)
-        node_owner[at(n)] = halo->owner(n);
+    node_owner.resize(nn);
+    for (Index n = 0; n < map.node_count(); ++n)
+      node_owner[at(n)] = halo.owner(n);
     number_unknowns(scene, l, heaviest);
     if (l.dynamic)
       project_inertia(P);
     gather_loads(scene, l);
   }
 
-  /// A distributed run: this rank's rank (the owner of the nodes it owns); 0 in a serial run.
+  /// This rank (the owner of the nodes it owns).
   int rank() const { return rank_; }
 
 private:
-  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
-
   // One unknown per component of a node with mass that neither a face nor a prescribed box
   // holds; a prescribed component takes this step's share of its displacement. The owned
-  // nodes are numbered first; a distributed run then learns every unknown's global id.
+  // nodes are numbered first; then every unknown learns its global id.
   void number_unknowns(const Scene<Dim>& scene, const Loading& l, double heaviest) {
     const auto nn = at(map.node_count());
-    node_dof.assign(Dim * nn, -1);
-    prescribed_du.assign(Dim * nn, 0.0);
+    dofs.reset(map.node_count());
+    prescribed_du.assign(nn, V::Zero());
     dof_count = 0;
     for (const bool owned : {true, false})
       for (Index n = 0; n < map.node_count(); ++n) {
@@ -125,22 +123,19 @@ private:
           if (region >= 0) {
             const auto& value = scene.spec.prescribed[at(region)].displacement[at(a)];
             if (value) {
-              prescribed_du[at(Dim * n + a)] = (l.ramp_end - l.ramp_committed) * *value;
+              prescribed_du[at(n)][a] = (l.ramp_end - l.ramp_committed) * *value;
               continue;
             }
           }
           if (node_mass[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
             continue;
-          node_dof[at(Dim * n + a)] = dof_count++;
+          dofs.set(n, NodeLayout::kDisplacement, a, dof_count++);
         }
         if (owned)
           owned_dof_count = dof_count;
       }
     owned_dof_count = std::min(owned_dof_count, dof_count);
-    global_dof_count = owned_dof_count;
-    global_node_count = map.node_count();
-    if (halo)
-      number_globally(scene.decomposition->comm());
+    number_globally(scene.decomposition->comm());
   }
 
   // Global ids: each rank's owned unknowns in order after those of the lower ranks; a shared
@@ -159,44 +154,35 @@ private:
     for (Index n = 0; n < map.node_count(); ++n)
       owned_nodes += node_owner[at(n)] == rank_;
     global_node_count = comm.sum(std::int64_t{owned_nodes});
-    std::vector<double> id_plus_one(node_dof.size(), 0.0);
-    for (Index n = 0; n < map.node_count(); ++n)
-      for (int a = 0; a < Dim; ++a)
-        if (const Index dof = dof_of(n, a); dof >= 0 && dof < owned_dof_count)
-          id_plus_one[at(Dim * n + a)] = static_cast<double>(offset + dof + 1);
-    const typename NodeHalo<Dim>::Field field{id_plus_one.data(), Dim};
-    halo->sum({&field, 1});
+    const std::span<const Index> table = dofs.table();
+    std::vector<double> id_plus_one(table.size(), 0.0);
+    for (std::size_t k = 0; k < table.size(); ++k)
+      if (const Index dof = table[k]; dof >= 0 && dof < owned_dof_count)
+        id_plus_one[k] = static_cast<double>(offset + dof + 1);
+    const typename NodeHalo<Dim>::Field field{id_plus_one.data(), dofs.layout().width()};
+    halo.sum({&field, 1});
     dof_gid.assign(at(dof_count), -1);
-    for (Index n = 0; n < map.node_count(); ++n)
-      for (int a = 0; a < Dim; ++a)
-        if (const Index dof = dof_of(n, a); dof >= 0)
-          dof_gid[at(dof)] = static_cast<Index>(id_plus_one[at(Dim * n + a)]) - 1;
+    for (std::size_t k = 0; k < table.size(); ++k)
+      if (const Index dof = table[k]; dof >= 0)
+        dof_gid[at(dof)] = static_cast<Index>(id_plus_one[k]) - 1;
     if (std::any_of(dof_gid.begin(), dof_gid.end(), [](Index g) { return g < 0; }))
       throw std::logic_error("a shared node's unknown has no global id from its owner");
   }
 
-  // The map of the step's points; in a distributed run a point that left the grid on any rank
-  // stops every rank with its message, and the halo connects the nodes the ranks share.
+  // The map of the step's points; a point that left the grid on any rank stops every rank
+  // with its message, and the halo connects the nodes the ranks share.
   void update_map(const Scene<Dim>& scene) {
     std::optional<std::string> failure;
     try {
       map.update(scene.grid, scene.particles);
     } catch (const NumericalError& e) {
-      if (!scene.distributed())
-        throw;
       failure = e.what();
-    }
-    if (!scene.distributed()) {
-      halo.reset();
-      return;
     }
     const Communicator& comm = scene.decomposition->comm();
     if (const auto first = comm.first_message(failure))
       throw NumericalError(*first);
     rank_ = comm.rank();
-    if (!halo)
-      halo.emplace();
-    halo->connect(*scene.decomposition, map.nodes());
+    halo.connect(*scene.decomposition, map.nodes());
   }
 
   // The nodes' masses (summed over the ranks that share a node); returns the heaviest here.
@@ -209,38 +195,21 @@ private:
       map.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
       node_mass[at(n)] = m;
     }
-    if (halo) {
-      const typename NodeHalo<Dim>::Field field{node_mass.data(), 1};
-      halo->sum({&field, 1});
-    }
+    const typename NodeHalo<Dim>::Field field{node_mass.data(), 1};
+    halo.sum({&field, 1});
     for (const double m : node_mass)
       heaviest = std::max(heaviest, m);
     return heaviest;
   }
 
-  // The faces the ghost penalty stabilises at this step's configuration.
+  // The faces the ghost penalty stabilises at this step's configuration. Whether a face is
+  // stabilised depends on the nodes up to two cells around it, which may belong to other ranks.
+  // The faces are found on a view of the grid, this rank's nodes and the neighbours' within
+  // its reach; each face is assembled by the owner of its anchor node, which adds the face's
+  // nodes that no point of its own reaches to its nodes (they carry no mass of its own; the
+  // halo brings their mass and unknowns' ids).
   void prepare_ghost_penalty(const Scene<Dim>& scene, double heaviest,
                              const std::vector<double>& young) {
-    const double gamma = scene.spec.solver.ghost_penalty;
-    if (gamma <= 0.0)
-      return;
-    const auto nn = at(map.node_count());
-    node_active_.assign(nn, 0);
-    for (Index n = 0; n < map.node_count(); ++n)
-      node_active_[at(n)] = node_mass[at(n)] >= kImplicitTinyNodeMassFraction * heaviest;
-    node_moduli(scene, young);
-    ghost.build(map.nodes(), node_active_, node_modulus_, gamma, mirror_faces(scene));
-    if constexpr (Axisymmetric)
-      ghost.weight_by_radius(map.nodes());
-  }
-
-  // A distributed run: whether a face is stabilised depends on the nodes up to two cells around
-  // it, which may belong to other ranks. The faces are found on a view of the grid, this rank's
-  // nodes and the neighbours' within its reach; each face is assembled by the owner of its
-  // anchor node, which adds the face's nodes that no point of its own reaches to its nodes
-  // (they carry no mass of its own; the halo brings their mass and unknowns' ids).
-  void prepare_ghost_penalty_distributed(const Scene<Dim>& scene, double heaviest,
-                                         const std::vector<double>& young) {
     const double gamma = scene.spec.solver.ghost_penalty;
     if (gamma <= 0.0)
       return;
@@ -251,28 +220,32 @@ private:
       mine[2 * n] = node_mass[n];
       mine[2 * n + 1] = node_modulus_[n];
     }
-    const auto theirs = halo->neighbour_nodes(map.nodes(), mine, 2);
+    const auto theirs = halo.neighbour_nodes(map.nodes(), mine, 2);
     // The view: every node this rank holds or a neighbour sent, with its (whole) mass, the
-    // stiffest modulus any holder saw, and its lowest holder.
-    std::vector<Index> ids(nn);
+    // stiffest modulus any holder saw, and its lowest holder (id lists merged, both ascending).
+    std::vector<Index> own(nn), sent = theirs.lattice_id, ids;
     for (Index n = 0; n < map.node_count(); ++n)
-      ids[at(n)] = map.nodes().lattice_id(n);
-    ids.insert(ids.end(), theirs.lattice_id.begin(), theirs.lattice_id.end());
-    std::sort(ids.begin(), ids.end());
+      own[at(n)] = map.nodes().lattice_id(n);
+    std::sort(sent.begin(), sent.end());
+    ids.reserve(own.size() + sent.size());
+    std::merge(own.begin(), own.end(), sent.begin(), sent.end(), std::back_inserter(ids));
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     ActiveNodes<Dim> view;
     view.assign(scene.grid, ids);
+    std::vector<Index> node_of_view = nodes_of_view(view);
     std::vector<double> mass(ids.size(), 0.0), modulus(ids.size(), 0.0);
     std::vector<int> lowest(ids.size(), std::numeric_limits<int>::max());
-    for (Index n = 0; n < map.node_count(); ++n) {
-      const auto v = at(view.find_lattice_id(map.nodes().lattice_id(n)));
+    for (std::size_t v = 0; v < ids.size(); ++v) {
+      const Index n = node_of_view[v];
+      if (n < 0)
+        continue;
       mass[v] = node_mass[at(n)];
       modulus[v] = node_modulus_[at(n)];
-      lowest[v] = halo->owner(n);
+      lowest[v] = halo.owner(n);
     }
     for (std::size_t i = 0; i < theirs.rank.size(); ++i) {
       const auto v = at(view.find_lattice_id(theirs.lattice_id[i]));
-      if (map.nodes().find_lattice_id(theirs.lattice_id[i]) < 0) {
+      if (node_of_view[v] < 0) {
         mass[v] = theirs.values[2 * i];
         lowest[v] = std::min(lowest[v], theirs.rank[i]);
       }
@@ -290,7 +263,7 @@ private:
     for (const auto& face : ghost.faces())
       if (mine_to_assemble(face))
         for (const Index v : face.nodes)
-          if (map.nodes().find_lattice_id(view.lattice_id(v)) < 0)
+          if (node_of_view[at(v)] < 0)
             extra.push_back(view.lattice_id(v));
     std::sort(extra.begin(), extra.end());
     extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
@@ -299,13 +272,23 @@ private:
     if (added) {
       if (!extra.empty())
         map.add_nodes(std::move(extra));
-      halo->connect(*scene.decomposition, map.nodes());
+      halo.connect(*scene.decomposition, map.nodes());
       sum_node_masses(scene);
+      node_of_view = nodes_of_view(view);
     }
-    ghost.select(mine_to_assemble,
-                 [&](Index v) { return map.nodes().find_lattice_id(view.lattice_id(v)); });
+    ghost.select(mine_to_assemble, [&](Index v) { return node_of_view[at(v)]; });
     if constexpr (Axisymmetric)
       ghost.weight_by_radius(map.nodes());
+  }
+
+  // Per node of the view (whose ids include all of the map's): the map's node, or -1.
+  std::vector<Index> nodes_of_view(const ActiveNodes<Dim>& view) const {
+    std::vector<Index> node(at(view.size()), -1);
+    Index n = 0;
+    for (Index v = 0; v < view.size() && n < map.node_count(); ++v)
+      if (view.lattice_id(v) == map.nodes().lattice_id(n))
+        node[at(v)] = n++;
+    return node;
   }
 
   // node_modulus_: per node, the stiffest material among the points that reach it here.
@@ -332,30 +315,26 @@ private:
   // per unknown.
   void project_inertia(const Particles<Dim>& P) {
     const auto nn = at(map.node_count());
-    std::vector<double> momenta(2 * Dim * nn, 0.0); // per node: m v, then m a
-    for (Index n = 0; n < map.node_count(); ++n) {
-      Eigen::Map<V> mv(momenta.data() + 2 * Dim * at(n)),
-          ma(momenta.data() + 2 * Dim * at(n) + Dim);
+    std::vector<V> mv(nn, V::Zero()), ma(nn, V::Zero()); // per node: m v and m a
+    for (Index n = 0; n < map.node_count(); ++n)
       map.for_each_particle_of(n, [&](Index p, double w, const V&) {
-        mv += w * P.mass[at(p)] * P.v[at(p)];
-        ma += w * P.mass[at(p)] * P.acceleration[at(p)];
+        mv[at(n)] += w * P.mass[at(p)] * P.v[at(p)];
+        ma[at(n)] += w * P.mass[at(p)] * P.acceleration[at(p)];
       });
-    }
-    if (halo) {
-      const typename NodeHalo<Dim>::Field field{momenta.data(), 2 * Dim};
-      halo->sum({&field, 1});
-    }
+    const typename NodeHalo<Dim>::Field fields[] = {NodeHalo<Dim>::field(mv),
+                                                    NodeHalo<Dim>::field(ma)};
+    halo.sum(fields);
     dof_mass.assign(at(dof_count), 0.0);
     grid_v.assign(at(dof_count), 0.0);
     grid_a.assign(at(dof_count), 0.0);
     for (Index n = 0; n < map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a) {
-        const Index dof = dof_of(n, a);
+        const Index dof = displacement_dof(n, a);
         if (dof < 0)
           continue;
         dof_mass[at(dof)] = node_mass[at(n)];
-        grid_v[at(dof)] = momenta[2 * Dim * at(n) + at(a)] / node_mass[at(n)];
-        grid_a[at(dof)] = momenta[2 * Dim * at(n) + Dim + at(a)] / node_mass[at(n)];
+        grid_v[at(dof)] = mv[at(n)][a] / node_mass[at(n)];
+        grid_a[at(dof)] = ma[at(n)][a] / node_mass[at(n)];
       }
   }
 
@@ -364,13 +343,10 @@ private:
   // |a|), or without any load the force of a cell strained by 1e-6.
   void gather_loads(const Scene<Dim>& scene, const Loading& l) {
     const auto& P = scene.particles;
-    full_external.assign(Dim * at(map.node_count()), 0.0);
+    full_external.assign(at(map.node_count()), V::Zero());
     const V g = head<Dim>(scene.spec.gravity);
     force_scale = 0;
-    auto add = [&](Index n, const V& f) {
-      for (int a = 0; a < Dim; ++a)
-        full_external[at(Dim * n + a)] += f[a];
-    };
+    auto add = [&](Index n, const V& f) { full_external[at(n)] += f; };
     for (Index p = 0; p < P.size(); ++p) {
       const V f = l.lambda_end * P.external_force[at(p)] +
                   (l.gravity_ramped ? l.lambda_end : 1.0) * P.mass[at(p)] * g;
@@ -387,16 +363,14 @@ private:
       for (Index p = 0; p < P.size(); ++p)
         force_scale = std::max(
             force_scale, P.mass[at(p)] * (P.v[at(p)].norm() / l.dt + P.acceleration[at(p)].norm()));
-    if (halo) {
-      const typename NodeHalo<Dim>::Field field{full_external.data(), Dim};
-      halo->sum({&field, 1});
-      force_scale = scene.decomposition->comm().max(force_scale);
-    }
+    const typename NodeHalo<Dim>::Field field = NodeHalo<Dim>::field(full_external);
+    halo.sum({&field, 1});
+    force_scale = scene.decomposition->comm().max(force_scale);
     external.setZero(static_cast<Eigen::Index>(dof_count));
     for (Index n = 0; n < map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
-        if (const Index dof = dof_of(n, a); dof >= 0)
-          external[dof] += full_external[at(Dim * n + a)];
+        if (const Index dof = displacement_dof(n, a); dof >= 0)
+          external[dof] += full_external[at(n)][a];
     if (force_scale == 0) {
       double modulus = 0;
       for (const auto& m : scene.materials)
@@ -405,7 +379,6 @@ private:
     }
   }
 
-  std::vector<char> node_active_;    ///< per node: carries mass this step (ghost penalty)
   std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)
   int rank_ = 0;
 };

@@ -159,13 +159,16 @@ struct KinsolSession {
   void* kinsol = nullptr;
 
   KinsolSession(const NonlinearSystem& system, Driver& d) {
+    // Vectors over several ranks take their norms and dot products over all of them; on one
+    // rank the serial vectors do the same without MPI (a serial run never starts it).
     const Communicator* comm = system.communicator();
-    MPI_Comm mpi = comm ? comm->mpi() : MPI_COMM_NULL;
-    if (SUNContext_Create(comm ? &mpi : nullptr, &context) < 0)
+    const bool spread = comm && comm->distributed();
+    MPI_Comm mpi = spread ? comm->mpi() : MPI_COMM_NULL;
+    if (SUNContext_Create(spread ? &mpi : nullptr, &context) < 0)
       throw std::runtime_error("SUNContext_Create failed");
     const auto n = static_cast<sunindextype>(system.size());
     auto make = [&] {
-      return comm
+      return spread
                  ? N_VNew_Parallel(mpi, n, static_cast<sunindextype>(system.global_size()), context)
                  : N_VNew_Serial(n, context);
     };

@@ -118,8 +118,6 @@ void on_root(const Communicator& ranks, const std::function<void()>& work) {
     try {
       work();
     } catch (const InputError& e) {
-      if (!ranks.distributed())
-        throw;
       failure = e.what();
       ranks.first_message(failure);
       throw;
@@ -398,7 +396,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
                            out.every_time ? *out.every_time
                                           : (out.every_steps ? 0.0 : stage.time.end_time / 20.0),
                            stage_start_time);
-      StageWatch watch(stage, ranks.distributed() ? &ranks : nullptr);
+      StageWatch watch(stage, ranks);
       const double start_strength = continuing ? resumed->stage_start_strength : strength_factor;
       StageStrength<Dim> strength(scene, spec, strength_factor, start_strength,
                                   stage.strength_factor.value_or(start_strength));
@@ -414,8 +412,7 @@ template <int Dim> RunResult run_case_in(const CaseSpec& spec, const RunOptions&
               (checkpoint_spec->every_seconds &&
                std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint)
                        .count() >= *checkpoint_spec->every_seconds);
-          if (ranks.distributed()) // the ranks' clocks differ: one rank's due is everyone's
-            due = ranks.any(due);
+          due = ranks.any(due); // the ranks' clocks differ: one rank's due is everyone's
           if (due)
             write_checkpoint(k, true, strength.start(), &watch);
         };

@@ -99,8 +99,8 @@ struct ProbeReading {
   Mat3 stress = Mat3::Zero();
 };
 
-/// The probes' points, wherever they live: in a distributed run the rank that holds a point
-/// reads it and the others add zeros. Collective there.
+/// The probes' points, wherever they live: the rank that holds a point reads it and the others
+/// add zeros. Collective.
 template <int Dim> std::vector<ProbeReading> probe_readings(const Scene<Dim>& scene) {
   const auto& P = scene.particles;
   std::vector<ProbeReading> out(scene.probe_particles.size());
@@ -109,7 +109,7 @@ template <int Dim> std::vector<ProbeReading> probe_readings(const Scene<Dim>& sc
       const auto s = static_cast<std::size_t>(p);
       out[k] = {padded<Dim>(P.x0[s]), padded<Dim>(P.x[s]), padded<Dim>(P.v[s]), P.stress[s]};
     }
-  if (!scene.distributed() || out.empty())
+  if (out.empty())
     return out;
   constexpr std::size_t kValues = 18;
   std::vector<double> flat(out.size() * kValues);
@@ -128,10 +128,9 @@ template <int Dim> std::vector<ProbeReading> probe_readings(const Scene<Dim>& sc
   return out;
 }
 
-/// The run's point count: the ranks' counts added in a distributed run. Collective there.
+/// The run's point count: the ranks' counts added. Collective.
 template <int Dim> Index point_count(const Scene<Dim>& scene) {
-  const Index mine = scene.particles.size();
-  return scene.distributed() ? scene.decomposition->comm().sum(std::int64_t{mine}) : mine;
+  return scene.decomposition->comm().sum(std::int64_t{scene.particles.size()});
 }
 
 template <int Dim>
@@ -263,8 +262,7 @@ template <int Dim> struct Recorder {
     std::optional<std::string> found;
     if (violation)
       found = violation->describe();
-    if (scene.distributed())
-      found = scene.decomposition->comm().first_message(found);
+    found = scene.decomposition->comm().first_message(found);
     if (found)
       throw StateGuardError(
           fmt::format("state guard: {} {}; the last good frame is frame {} (step {}, t = {:g})",

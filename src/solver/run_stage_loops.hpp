@@ -32,11 +32,10 @@ namespace talus::run_detail {
 /// Set by SIGINT/SIGTERM while a run steps: the loops stop after the step in progress.
 inline std::atomic<bool> g_interrupted{false};
 
-/// Whether the run was interrupted: in a distributed run, whether any rank was (collective),
-/// which then counts for every rank, so all stop after the same step.
+/// Whether the run was interrupted: whether any rank was (collective), which then counts for
+/// every rank, so all stop after the same step.
 template <int Dim> bool interrupt_noticed(const Scene<Dim>& scene) {
-  if (scene.distributed())
-    g_interrupted = scene.decomposition->comm().any(g_interrupted);
+  g_interrupted = scene.decomposition->comm().any(g_interrupted);
   return g_interrupted;
 }
 
@@ -257,23 +256,18 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       rec.stop_if_violated(find_particle_violation(scene.particles), at_end);
     };
     watch.before_step(scene.particles);
-    std::optional<std::string> failure; // a distributed run's: every rank stops together
+    std::optional<std::string> failure; // every rank stops together
     try {
       solver->step(dt);
     } catch (const NumericalError& e) {
-      // A material that met det F <= 0 or a point that left the grid: name the point if the
-      // state shows it, otherwise pass the solver's own message on.
-      if (!scene.distributed()) {
-        guard();
-        throw;
-      }
       failure = e.what();
     }
-    if (scene.distributed())
-      if (const auto first = scene.decomposition->comm().first_message(failure)) {
-        guard();
-        throw NumericalError(*first);
-      }
+    // A material that met det F <= 0 or a point that left the grid: name the point if the
+    // state shows it, otherwise pass the solver's own message on.
+    if (const auto first = scene.decomposition->comm().first_message(failure)) {
+      guard();
+      throw NumericalError(*first);
+    }
     guard();
     s.t = t_end;
     ++s.step;
@@ -320,9 +314,9 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     dt = s.implicit_dt;
     easy_steps = s.easy_steps;
   }
-  // One log for the run: the first stage creates it, later stages append. A distributed run's
-  // Newton is one over the ranks: rank 0 writes it.
-  const bool writes = !scene.distributed() || scene.decomposition->comm().root();
+  // One log for the run: the first stage creates it, later stages append. Newton is one over
+  // the ranks: rank 0 writes it.
+  const bool writes = scene.decomposition->comm().root();
   std::FILE* log =
       std::fopen(writes ? (out_dir / "newton.log").c_str() : "/dev/null", s.step == 0 ? "w" : "a");
   if (!log)

@@ -5,8 +5,8 @@
 
 namespace talus {
 
-StageWatch::StageWatch(const StageSpec& stage, const Communicator* ranks)
-    : stage_(stage), ranks_(ranks), started_(std::chrono::steady_clock::now()) {}
+StageWatch::StageWatch(const StageSpec& stage, const Communicator& ranks)
+    : stage_(stage), ranks_(&ranks), started_(std::chrono::steady_clock::now()) {}
 
 template <int Dim> void StageWatch::before_step(const Particles<Dim>& P) {
   if (!stage_.at_rest)
@@ -22,8 +22,7 @@ template <int Dim> bool StageWatch::ends_after_step(const Particles<Dim>& P, dou
     for (std::size_t p = 0; p < x_before_.size(); ++p)
       kinetic_energy +=
           0.5 * P.mass[p] * (padded<Dim>(P.x[p]) - x_before_[p]).squaredNorm() / (dt * dt);
-    if (ranks_)
-      kinetic_energy = ranks_->sum(kinetic_energy);
+    kinetic_energy = ranks_->sum(kinetic_energy);
     peak_kinetic_ = std::max(peak_kinetic_, kinetic_energy);
     if (kinetic_energy <= stage_.at_rest->kinetic_energy_ratio * peak_kinetic_) {
       if (!quiet_since_)
@@ -42,8 +41,7 @@ template <int Dim> bool StageWatch::ends_after_step(const Particles<Dim>& P, dou
   if (stage_.wall_time_limit) {
     double used =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-    if (ranks_) // the slowest rank's clock: all ranks stop at the same step
-      used = ranks_->max(used);
+    used = ranks_->max(used); // the slowest rank's clock: all ranks stop at the same step
     if (used > *stage_.wall_time_limit) {
       reason_ = fmt::format("wall-time limit: {:.1f} s used of the stage's {:g} s at stage time "
                             "{:g} s",

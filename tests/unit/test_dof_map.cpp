@@ -169,7 +169,7 @@ TEST(DofMap, RefusesAShareMissingAGhostNode) {
   ASSERT_NE(ghost, nodes.end());
   const Index missing = *ghost;
   nodes.erase(ghost);
-  const DofMap incomplete(second.index, nodes, 2, solver.global_node_dofs(), owners);
+  const DofMap incomplete(second.index, nodes, solver.global_dofs(), owners);
   EXPECT_FALSE(incomplete.in_overlap(missing));
   Eigen::VectorXd r;
   try {

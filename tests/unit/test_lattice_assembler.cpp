@@ -93,7 +93,7 @@ template <int Dim> Problem<Dim> random_problem(std::mt19937& rng) {
 }
 
 template <int Dim> void build(LatticeAssembler<Dim>& assembler, const Problem<Dim>& p) {
-  assembler.build(p.nodes, p.numbering.size, p.numbering, [&](auto&& f) {
+  assembler.build(p.nodes, talus::NodeLayout(Dim), p.numbering.size, p.numbering, [&](auto&& f) {
     for (const auto& c : p.cliques)
       f(std::span<const Index>(c));
   });
@@ -189,7 +189,7 @@ TEST(LatticeAssembler, RefusesBlocksOutsideTheStructure) {
   const std::vector<Index> left = {id(0, 0), id(1, 0), id(0, 1), id(1, 1)};
   const std::vector<Index> right = {id(2, 0), id(3, 0), id(2, 1), id(3, 1)};
   LatticeAssembler<2> assembler;
-  assembler.build(nodes, numbering.size, numbering, [&](auto&& f) {
+  assembler.build(nodes, talus::NodeLayout(2), numbering.size, numbering, [&](auto&& f) {
     f(std::span<const Index>(left));
     f(std::span<const Index>(right));
   });
@@ -205,7 +205,7 @@ TEST(LatticeAssembler, RefusesBlocksOutsideTheStructure) {
   Numbering<2> scattered = numbering;
   scattered.dof[static_cast<std::size_t>(2 * id(0, 0) + 1)] = numbering.size;
   scattered.size = numbering.size + 1;
-  EXPECT_THROW(assembler.build(nodes, scattered.size, scattered,
+  EXPECT_THROW(assembler.build(nodes, talus::NodeLayout(2), scattered.size, scattered,
                                [&](auto&& f) { f(std::span<const Index>(left)); }),
                std::invalid_argument);
 }

@@ -52,7 +52,7 @@ std::pair<double, Index> worst_residual(const std::string& t) {
   ParticleGridMap<Dim, GimpShape> nodes_of;
   nodes_of.update(scene.grid, scene.particles);
   const Eigen::MatrixXd modes = rigid_body_modes<Dim, Axisymmetric>(
-      nodes_of.nodes(), solver->global_node_dofs(), solver->unknowns());
+      nodes_of.nodes(), solver->global_dofs(), solver->unknowns());
   const double scale = Eigen::MatrixXd(K).cwiseAbs().maxCoeff() * modes.cwiseAbs().maxCoeff();
   const double worst = (K * modes).cwiseAbs().maxCoeff() / scale;
   std::printf("%d modes on %lld unknowns: max |K m| / (max |K| max |m|) = %.3g\n",

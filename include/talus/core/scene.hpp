@@ -35,9 +35,10 @@ template <int Dim> struct Scene {
   std::vector<SurfaceLoad<Dim>> surface_loads; ///< the tractions, per loaded point
   std::vector<Index> probe_particles;          ///< one particle per ProbeSpec, same order
   std::vector<std::string> probe_names;
-  /// A distributed run's split of the cells over the ranks; null in a serial run. Each rank's
-  /// scene then holds its own points only (parallel/migration.hpp), and a probe whose point
-  /// lives on another rank has the particle -1.
+  /// The split of the cells over the run's ranks: one rank owning everything (build_scene),
+  /// until a distributed run partitions the scene. Each rank's scene then holds its own points
+  /// only (parallel/migration.hpp), and a probe whose point lives on another rank has the
+  /// particle -1.
   std::shared_ptr<const Decomposition<Dim>> decomposition;
 
   bool distributed() const { return decomposition && decomposition->comm().distributed(); }

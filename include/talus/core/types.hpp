@@ -2,12 +2,18 @@
 // Basic numeric types shared by every Talus module.
 #include <Eigen/Dense>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace talus {
 
 using Index = std::int64_t;
+
+/// An index (Index or int) as a position in a std::vector.
+constexpr std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
 
 template <int Dim> using Vec = Eigen::Matrix<double, Dim, 1>;
 template <int Dim> using Mat = Eigen::Matrix<double, Dim, Dim>;

@@ -36,6 +36,10 @@ public:
   /// Where each unknown sits (one row per local unknown, its node's coordinates): MueLu moves
   /// its coarse levels onto one rank by them, for an exact coarse solve. Kept until replaced.
   virtual void set_coordinates(Eigen::MatrixXd xyz) = 0;
+  /// Whether an analysis outlives the step that numbered the unknowns: true where a step's
+  /// matrix with the pattern of the last one analysed is the same operator's pattern (local ids
+  /// are the global ones); false where every step numbers its unknowns anew over the ranks.
+  virtual bool keeps_analysis_across_steps() const { return false; }
 };
 
 /// Belos CG (kind trilinos_cg) or GMRES (trilinos_gmres) with MueLu smoothed aggregation over
@@ -43,5 +47,12 @@ public:
 /// without Trilinos.
 std::unique_ptr<DistributedLinearSolver>
 make_distributed_linear_solver(const LinearSolverOptions& options, MPI_Comm comm);
+
+/// The linear solver of a step whose unknowns are spread over `ranks` ranks of `comm`: on one
+/// rank the serial backend `options.kind`, owning every unknown (ghost import and export-add
+/// are the identity); on several, Belos over the ranks, CG for a symmetric tangent and GMRES
+/// otherwise (the serial backends cannot take a matrix held in shares).
+std::unique_ptr<DistributedLinearSolver>
+make_rank_linear_solver(LinearSolverOptions options, bool symmetric, int ranks, MPI_Comm comm);
 
 } // namespace talus

@@ -12,6 +12,7 @@
 // what add_to_global() does on one process.
 #include "talus/core/types.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/linalg/node_layout.hpp"
 
 #include <span>
 #include <vector>
@@ -27,21 +28,26 @@ public:
 
   DofMap() = default;
   /// share: this share's index. overlap_nodes: the grid nodes its contributions reach (any
-  /// order, repeats allowed). global_node_dofs: the global DOF of component a of grid node n at
-  /// dim * n + a for the whole grid, negative for none. node_owner[n]: the share that owns grid
-  /// node n (negative: no share reaches it). Throws std::invalid_argument for a node outside
-  /// the grid or an overlap node without an owner.
-  DofMap(int share, std::vector<Index> overlap_nodes, int dim,
-         std::span<const Index> global_node_dofs, std::span<const int> node_owner);
+  /// order, repeats allowed). global: the global unknowns of every grid node's components.
+  /// node_owner[n]: the share that owns grid node n (negative: no share reaches it). Throws
+  /// std::invalid_argument for a node outside the grid or an overlap node without an owner.
+  DofMap(int share, std::vector<Index> overlap_nodes, const NodeDofs& global,
+         std::span<const int> node_owner);
 
   int share() const { return share_; }
-  int dim() const { return dim_; }
+  const NodeLayout& layout() const { return layout_; }
   /// The overlap nodes, ascending.
   const std::vector<Index>& overlap_nodes() const { return nodes_; }
   bool in_overlap(Index node) const { return node_state_[at(node)] != kOutside; }
   bool owns_node(Index node) const { return node_state_[at(node)] == kOwned; }
-  /// Local id of component a of grid node n, kNoDof or kNotInOverlap.
-  Index local_dof(Index node, int a) const { return local_dofs_[at(dim_ * node + a)]; }
+  /// Local id of component c of the field of grid node n, kNoDof or kNotInOverlap.
+  Index local_dof(Index node, int field, int c) const {
+    return local_dofs_[layout_.slot(node, field, c)];
+  }
+  /// Local id of grid node n's k-th component over all fields, kNoDof or kNotInOverlap.
+  Index local_dof_at(Index node, int k) const {
+    return local_dofs_[at(node) * at(layout_.width()) + at(k)];
+  }
 
   Index owned_count() const { return owned_count_; }
   Index overlap_count() const { return static_cast<Index>(gids_.size()); }
@@ -59,13 +65,12 @@ public:
 
 private:
   enum NodeState : char { kOutside, kGhost, kOwned };
-  static std::size_t at(Index i) { return static_cast<std::size_t>(i); }
 
   int share_ = 0;
-  int dim_ = 0;
+  NodeLayout layout_;
   std::vector<Index> nodes_;
   std::vector<NodeState> node_state_; ///< per grid node
-  std::vector<Index> local_dofs_;     ///< per (grid node, component)
+  std::vector<Index> local_dofs_;     ///< per (grid node, component over all fields)
   std::vector<Index> gids_;           ///< per local DOF
   Index owned_count_ = 0;
 };

@@ -28,6 +28,8 @@ public:
   static void init_if_launched(int& argc, char**& argv);
   /// The run's ranks: MPI_COMM_WORLD after init_if_launched started MPI, else one rank.
   static const Communicator& world();
+  /// This process alone: one rank, whatever the run's size; never touches MPI.
+  static const Communicator& self();
 
   int rank() const { return rank_; }
   int size() const { return size_; }

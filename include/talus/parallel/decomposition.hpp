@@ -42,6 +42,12 @@ public:
     return out;
   }
 
+  /// This process's points all its own, on one rank: a serial run's decomposition, and every
+  /// rank's before a distributed run partitions the scene.
+  static Decomposition single(const Grid<Dim>& grid) {
+    return all_on(Communicator::self(), grid, 0);
+  }
+
   const Communicator& comm() const { return *comm_; }
   const std::vector<PartBox>& boxes() const { return boxes_; }
 

@@ -24,6 +24,12 @@ public:
     double* values;
     int width;
   };
+  /// The field of a per-node array of doubles or of fixed-size vectors of doubles.
+  template <class T> static Field field(std::vector<T>& per_node) {
+    static_assert(sizeof(T) % sizeof(double) == 0, "a node field holds doubles only");
+    return {reinterpret_cast<double*>(per_node.data()),
+            static_cast<int>(sizeof(T) / sizeof(double))};
+  }
   /// Sums the fields over the ranks on the shared nodes (one message per neighbour).
   void sum(std::span<const Field> fields);
 

@@ -16,12 +16,4 @@ struct Energies {
 /// energy and momentum (off for quasi-static runs, whose velocities are pseudo-time rates).
 template <int Dim> Energies particle_energies(const Scene<Dim>& scene, bool with_motion);
 
-/// The ranks' energies of a distributed run added up (in rank order, the same on every rank).
-inline Energies summed_over_ranks(const Energies& e, const Communicator& comm) {
-  const double mine[] = {e.kinetic,      e.strain,       e.gravity,
-                         e.momentum.x(), e.momentum.y(), e.momentum.z()};
-  const std::vector<double> t = comm.sum(mine);
-  return {t[0], t[1], t[2], Vec3(t[3], t[4], t[5])};
-}
-
 } // namespace talus

@@ -107,9 +107,9 @@ public:
   /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
   /// step's start, the global DOF numbering (unknowns() of them), node masses and loads.
   virtual void prepare(double lambda_end, double ramp_end, double dt) = 0;
-  /// The global DOF of component a of grid node n at Dim n + a, negative for none (held,
+  /// The global unknown of every (grid node, field, component), negative for none (held,
   /// prescribed or massless).
-  virtual std::span<const Index> global_node_dofs() const = 0;
+  virtual const NodeDofs& global_dofs() const = 0;
   /// Per grid node, the share that owns it: the lowest-indexed share whose points reach it;
   /// -1 for nodes no point reaches.
   virtual std::vector<int> node_owners(std::span<const ParticleShare> shares) const = 0;

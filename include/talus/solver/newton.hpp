@@ -17,9 +17,9 @@ public:
   virtual ~NonlinearSystem() = default;
   /// The unknowns this process holds (all of them, or in a distributed run the owned ones).
   virtual Index size() const = 0;
-  /// A distributed run: the ranks the unknowns are spread over (KINSOL's vectors then take
-  /// their norms and dot products over all of them; every call below is collective, and
-  /// residual() must agree across the ranks on whether x is admissible). Null: one process.
+  /// The ranks the unknowns are spread over (KINSOL's vectors then take their norms and dot
+  /// products over all of them; every call below is collective, and residual() must agree
+  /// across the ranks on whether x is admissible). Null: one process.
   virtual const Communicator* communicator() const { return nullptr; }
   /// The unknowns of all ranks.
   virtual Index global_size() const { return size(); }

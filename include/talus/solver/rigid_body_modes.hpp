@@ -7,24 +7,23 @@
 // translation only (a radial translation stretches the hoops, a rotation leaves the meridian
 // plane). Rotations are taken about the unknowns' centroid so that no mode dwarfs the others.
 #include "talus/grid/active_nodes.hpp"
+#include "talus/linalg/node_layout.hpp"
 
 #include <Eigen/Core>
 
-#include <span>
-
 namespace talus {
 
-/// One column per mode, one row per unknown; node_dof[Dim n + a] is the unknown of component a
-/// of active node n (negative for none).
+/// One column per mode, one row per unknown; `dofs` numbers the unknowns of the active nodes,
+/// of which the modes move the displacement's (the rows of other fields stay zero).
 template <int Dim, bool Axisymmetric>
-Eigen::MatrixXd rigid_body_modes(const ActiveNodes<Dim>& nodes, std::span<const Index> node_dof,
+Eigen::MatrixXd rigid_body_modes(const ActiveNodes<Dim>& nodes, const NodeDofs& dofs,
                                  Index unknowns) {
   constexpr int kRotations = Axisymmetric ? 0 : Dim == 2 ? 1 : 3;
   constexpr int kTranslations = Axisymmetric ? 1 : Dim;
   Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(unknowns, kTranslations + kRotations);
   if (unknowns == 0)
     return modes;
-  auto dof = [&](Index n, int a) { return node_dof[static_cast<std::size_t>(Dim * n + a)]; };
+  auto dof = [&](Index n, int a) { return dofs.dof(n, NodeLayout::kDisplacement, a); };
   Vec<Dim> centre = Vec<Dim>::Zero();
   Index counted = 0;
   for (Index n = 0; n < nodes.size(); ++n)

@@ -21,8 +21,8 @@ namespace talus {
 
 class StageWatch {
 public:
-  /// `ranks`: a distributed run's, which then judge rest and time together.
-  explicit StageWatch(const StageSpec& stage, const Communicator* ranks = nullptr);
+  /// `ranks`: the run's, which judge rest and time together.
+  explicit StageWatch(const StageSpec& stage, const Communicator& ranks = Communicator::self());
 
   /// Before each step (attempt): remembers the positions, if the stage watches for rest.
   template <int Dim> void before_step(const Particles<Dim>& P);
@@ -50,7 +50,7 @@ public:
 
 private:
   const StageSpec& stage_;
-  const Communicator* ranks_;
+  const Communicator* ranks_; ///< never null
   std::chrono::steady_clock::time_point started_;
   double peak_kinetic_ = 0;
   std::optional<double> quiet_since_{};
