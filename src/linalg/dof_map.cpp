@@ -49,6 +49,12 @@ DofMap::DofMap(int share, std::vector<Index> overlap_nodes, const NodeDofs& glob
     }
 }
 
+void DofMap::refuse_node_outside(Index node) const {
+  throw std::invalid_argument(fmt::format("share {} reaches grid node {}, which is not in its DOF "
+                                          "map (a ghost node is missing from its overlap)",
+                                          share_, node));
+}
+
 Eigen::VectorXd DofMap::restrict_to_overlap(const Eigen::VectorXd& global) const {
   Eigen::VectorXd local(overlap_count());
   for (std::size_t l = 0; l < gids_.size(); ++l)

@@ -1,7 +1,8 @@
 #include "talus/solver/implicit_solver.hpp"
-#include "f_bar_step.hpp"
+#include "implicit_residual.hpp"
 #include "implicit_step_setup.hpp"
-#include "point_stiffness.hpp"
+#include "implicit_tangent.hpp"
+#include "implicit_trial_state.hpp"
 #include "step_tangent.hpp"
 #include "talus/core/add_seconds.hpp"
 #include "talus/core/errors.hpp"
@@ -43,24 +44,21 @@ class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
 
 public:
   ImplicitSolverImpl(Scene<Dim>& scene, double prescribed_fraction_reached)
-      : scene_(scene), ramp_committed_(prescribed_fraction_reached) {
+      : scene_(scene), trial_(scene), ramp_committed_(prescribed_fraction_reached) {
     double modulus = 0;
     for (const auto& m : scene.materials) {
       modulus = std::max(modulus, m->lame().p_wave_modulus());
       material_young_.push_back(m->lame().young_modulus());
     }
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
-    f_bar_ = scene.spec.solver.f_bar;
-    f_bar_step_ = FBarStep<Dim, Axisymmetric>(scene.spec.solver.f_bar_out_of_plane);
-    const bool symmetric =
-        !f_bar_ && std::all_of(scene.materials.begin(), scene.materials.end(),
-                               [](const auto& m) { return m->symmetric_tangent(); });
+    const bool symmetric = !scene.spec.solver.f_bar &&
+                           std::all_of(scene.materials.begin(), scene.materials.end(),
+                                       [](const auto& m) { return m->symmetric_tangent(); });
     comm_ = &scene.decomposition->comm();
     LinearSolverOptions options;
     options.kind = serial_linear_solver_kind(symmetric);
     linear_ = make_rank_linear_solver(options, symmetric, comm_->size(), comm_->mpi());
     const auto np = static_cast<std::size_t>(scene.particles.size());
-    trial_F_.assign(np, Mat3::Identity());
     dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
     // A geostatic initial stress already balances the full weight: gravity then acts in full
     // from the first step, and only the other loads follow the load factor.
@@ -72,7 +70,6 @@ public:
     // A dynamic stage after another dynamic stage continues from its Newmark acceleration.
     if (dynamic_ && scene.particles.acceleration.size() != np)
       scene.particles.acceleration.assign(np, V::Zero());
-    response_.resize(np);
     for (auto& r : reactions_)
       r.setZero();
   }
@@ -155,23 +152,10 @@ public:
     ramp_committed_ = c.prescribed_fraction;
     line_search_first_ = c.line_search_first;
   }
-  const SparseMatrix& last_tangent() const override {
-    static const SparseMatrix kNone;
-    return share_tangents_.empty() ? kNone : share_tangents_[0].assembler.finish();
-  }
+  const SparseMatrix& last_tangent() const override { return tangent_.last(); }
   // The per-point trial state (the Newmark acceleration lives in the particles, which resize
   // it themselves); the map and the DOF numbering are rebuilt at the start of every step.
-  void particles_changed() override {
-    const auto np = at(scene_.particles.size());
-    trial_F_.resize(np, Mat3::Identity());
-    trial_dF_.resize(np, M::Identity());
-    if constexpr (Axisymmetric)
-      trial_hoop_.resize(np, 1.0);
-    response_.resize(np);
-    if (f_bar_)
-      f_bar_step_.resize(static_cast<Index>(np));
-    state_valid_ = false; // the cached trial state belonged to the old point set
-  }
+  void particles_changed() override { trial_.resize(); }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
   // The owned unknowns (Newton's vectors hold those; on one rank every unknown).
@@ -191,15 +175,14 @@ public:
 
   const SparseMatrix& jacobian(const Eigen::VectorXd& du_owned) override {
     const Eigen::VectorXd du = overlap_increment(du_owned);
-    if (!state_matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
+    if (!trial_.matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
     // Within a step the connectivity is fixed; a new step keeps the symbolic analysis when its
     // structure matches the last one built, whichever step or Newton attempt analysed it, and
     // the linear solver's numbering outlives the step (not so over several ranks).
     bool built = false;
     const SparseMatrix& K = share_tangent(whole_, whole_map_, built);
-    if (built && (!linear_->keeps_analysis_across_steps() ||
-                  !share_tangents_[0].assembler.same_structure_as_before()))
+    if (built && (!linear_->keeps_analysis_across_steps() || !tangent_.same_structure_as_before()))
       ++pattern_generation_;
     return K;
   }
@@ -218,9 +201,7 @@ public:
     dt_ = dt;
     step_.prepare(scene_, {lambda_end, ramp_end, ramp_committed_, dt, dynamic_, gravity_ramped_},
                   material_young_);
-    if (f_bar_)
-      f_bar_step_.prepare(scene_.grid, scene_.particles, step_.map.node_count());
-    state_valid_ = false;
+    trial_.prepare(step_.map);
     ++step_count_;
     whole_ = {comm_->rank(), 0, scene_.particles.size()};
     // This rank's points reach every node of its step (and it assembles the ghost faces its
@@ -277,13 +258,13 @@ public:
   bool assemble_share(const ParticleShare& share, const DofMap& map,
                       const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
                       SparseMatrix* tangent) override {
-    if (f_bar_)
-      f_bar_step_.require_whole_cells(share);
-    if (!state_matches(share, du_overlap) && !update_trial_state(share, map, du_overlap))
+    if (auto* f_bar = trial_.f_bar())
+      f_bar->require_whole_cells(share);
+    if (!trial_.matches(share, du_overlap) && !update_trial_state(share, map, du_overlap))
       return false;
     if (residual) {
       const AddSeconds timer(timings_.residual_assembly);
-      assemble_residual(share, map, du_overlap, *residual);
+      balance().assemble(share, map, du_overlap, assembled_by(map), *residual);
     }
     if (tangent) {
       bool built = false;
@@ -309,10 +290,10 @@ private:
     return automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
   }
 
-  double newmark_acceleration(Index dof, double du) const {
-    return 4.0 / (dt_ * dt_) * (du - dt_ * step_.grid_v[at(dof)]) - step_.grid_a[at(dof)];
+  /// The step's out-of-balance force and nodal increments (implicit_residual.hpp).
+  ImplicitResidual<Dim, Shape, Axisymmetric> balance() const {
+    return {step_, trial_, dynamic_, dt_};
   }
-  Index dof_of(Index node, int a) const { return step_.displacement_dof(node, a); }
 
   /// f . K^-1 f / |f|^2 for the step's external load f (owned unknowns), with the factorisation
   /// Newton used last: its tangent is within the convergence tolerance of the converged state's.
@@ -354,212 +335,17 @@ private:
     return &map == &whole_map_ || map.owns_node(Ghost::anchor(face));
   }
 
-  /// The local DOF of displacement component a of node n in the share's map.
-  static Index local_dof(const DofMap& map, Index n, int a) {
-    return local_dof_at(map, n, map.layout().offset(NodeLayout::kDisplacement) + a);
-  }
-  /// The local DOF of node n's k-th component over all fields in the share's map; refuses a
-  /// node outside it.
-  static Index local_dof_at(const DofMap& map, Index n, int k) {
-    const Index dof = map.local_dof_at(n, k);
-    if (dof == DofMap::kNotInOverlap)
-      throw std::invalid_argument(
-          fmt::format("share {} reaches grid node {}, which is not in its DOF map (a ghost node "
-                      "is missing from its overlap)",
-                      map.share(), n));
-    return dof;
+  /// The ghost-penalty faces the map's share assembles, as a predicate.
+  auto assembled_by(const DofMap& map) const {
+    return [this, &map](const typename Ghost::Face& face) { return assembles(map, face); };
   }
 
-  /// Calls f(node, component, force) with the ghost-penalty forces G du of every stabilised
-  /// face the map's share assembles (prescribed components enter with their increments, held
-  /// ones as zero).
-  template <class F>
-  void for_each_ghost_force(const DofMap& map, const Eigen::VectorXd& du, F&& f) const {
-    const auto& G = Ghost::face_matrix();
-    for (const auto& face : step_.ghost.faces()) {
-      if (!assembles(map, face))
-        continue;
-      Eigen::Matrix<double, Ghost::kFaceNodes, Dim> u;
-      for (int k = 0; k < Ghost::kFaceNodes; ++k)
-        u.row(k) = node_increment(map, face.nodes[at(k)], du).transpose();
-      const Eigen::Matrix<double, Ghost::kFaceNodes, Dim> forces = face.stiffness * G * u;
-      for (int k = 0; k < Ghost::kFaceNodes; ++k)
-        for (int a = 0; a < Dim; ++a)
-          f(face.nodes[at(k)], a, forces(k, a));
-    }
-  }
-  /// The increment of node n: unknowns from du (local ids of map), prescribed components from
-  /// the ramp, zero for held components.
-  V node_increment(const DofMap& map, Index n, const Eigen::VectorXd& du) const {
-    V u;
-    for (int a = 0; a < Dim; ++a) {
-      const Index dof = local_dof(map, n, a);
-      u[a] = dof >= 0 ? du[dof] : step_.prescribed_du[at(n)][a];
-    }
-    return u;
-  }
-
-  // The share's residual: node terms of its owned DOFs (local ids [0, owned_count)), its
-  // points' internal forces and the ghost-penalty forces of its faces.
-  void assemble_residual(const ParticleShare& share, const DofMap& map, const Eigen::VectorXd& du,
-                         Eigen::VectorXd& r) const {
-    r.setZero(map.overlap_count());
-    const auto& gids = map.overlap_gids();
-    for (Index l = 0; l < map.owned_count(); ++l) {
-      const Index gid = gids[at(l)];
-      r[l] = -step_.external[gid];
-      if (dynamic_) // Newmark: M a_{n+1}, a_{n+1} = 4/dt^2 (du - dt v_n) - a_n
-        r[l] += step_.dof_mass[at(gid)] * newmark_acceleration(gid, du[l]);
-    }
-    for (Index p = share.begin; p < share.end; ++p)
-      for_each_internal_force(p, [&](Index n, double, const V& f) {
-        for (int a = 0; a < Dim; ++a)
-          if (const Index dof = local_dof(map, n, a); dof >= 0)
-            r[dof] += f[a];
-      });
-    for_each_ghost_force(map, du, [&](Index n, int a, double f) {
-      if (const Index dof = local_dof(map, n, a); dof >= 0)
-        r[dof] += f;
-    });
-  }
-
-  /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's internal
-  /// force at its trial state: V0 G grad N, G = tau dF^-T the step's first Piola stress (and
-  /// F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the radial component.
-  template <class F> void for_each_internal_force(Index p, F&& f) const {
-    const auto s = at(p);
-    const Mat3 dF_inv = step_gradient(s).inverse();
-    const Mat3 G =
-        scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
-    const M G2 = G.topLeftCorner<Dim, Dim>();
-    [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
-    step_.map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
-      V force = G2 * grad;
-      if constexpr (Axisymmetric)
-        force[0] += hoop_per_weight * w;
-      f(n, w, force);
-    });
-  }
-
-  /// The share's tangent at the trial state: its sparsity structure built at the first call
-  /// of a step for this share (`built`), then only the values.
+  /// The share's tangent at the trial state (`built`: its structure built by this call).
   const SparseMatrix& share_tangent(const ParticleShare& share, const DofMap& map, bool& built) {
     const AddSeconds timer(timings_.tangent_assembly);
-    if (share_tangents_.size() <= at(share.index))
-      share_tangents_.resize(at(share.index) + 1);
-    ShareTangent& t = share_tangents_[at(share.index)];
-    built = t.step != step_count_ || t.begin != share.begin || t.end != share.end ||
-            t.assembler.size() != map.overlap_count();
-    if (built) {
-      build_tangent_structure(share, map, t.assembler);
-      t.step = step_count_;
-      t.begin = share.begin;
-      t.end = share.end;
-    } else {
-      t.assembler.begin();
-    }
-    assemble_tangent(share, map, t.assembler);
-    return t.assembler.finish();
-  }
-
-  /// The sets of nodes the share's tangent couples: each distinct point stencil, the nodes of
-  /// each F-bar cell and of each ghost-penalty face the share assembles.
-  void build_tangent_structure(const ParticleShare& share, const DofMap& map,
-                               LatticeAssembler<Dim>& tangent) {
-    group_by_stencil(share);
-    const auto cliques = [&](auto&& f) {
-      for (std::size_t g = 0; g + 1 < group_begin_.size(); ++g) {
-        const auto nodes = step_.map.stencil_nodes(point_of_group(static_cast<Index>(g)));
-        f(std::span<const Index>(nodes));
-      }
-      if (f_bar_)
-        f_bar_step_.for_each_cell_nodes(share, step_.map, f);
-      for (const auto& face : step_.ghost.faces())
-        if (assembles(map, face))
-          f(std::span<const Index>(face.nodes));
-    };
-    tangent.build(
-        step_.map.nodes(), map.layout(), map.overlap_count(),
-        [&](Index n, int k) { return local_dof_at(map, n, k); }, cliques);
-  }
-
-  /// The share's points grouped by their stencil (the same start, so the same nodes), groups
-  /// in the order of their start node, points ascending within a group.
-  void group_by_stencil(const ParticleShare& share) {
-    stencil_points_.clear();
-    for (Index p = share.begin; p < share.end; ++p)
-      stencil_points_.push_back({scene_.grid.node_id(step_.map.stencil(p).start), p});
-    std::sort(stencil_points_.begin(), stencil_points_.end());
-    group_begin_.clear();
-    for (std::size_t i = 0; i < stencil_points_.size(); ++i)
-      if (i == 0 || stencil_points_[i][0] != stencil_points_[i - 1][0])
-        group_begin_.push_back(static_cast<Index>(i));
-    group_begin_.push_back(static_cast<Index>(stencil_points_.size()));
-  }
-
-  /// The first point of group g (any of its points has the group's stencil).
-  Index point_of_group(Index g) const { return stencil_points_[at(group_begin_[at(g)])][1]; }
-
-  // The share's tangent: per group of points with one stencil the sum of their dense blocks
-  // K_p = V0 B^T A B (point_stiffness.hpp), computed in parallel a chunk of groups at a time and
-  // added to the sparse matrix in group order (one lattice lookup per group, and sums that do
-  // not depend on the thread count); the F-bar cell coupling; the ghost-penalty face blocks, per
-  // component; the Newmark mass of its owned DOFs.
-  void assemble_tangent(const ParticleShare& share, const DofMap& map,
-                        LatticeAssembler<Dim>& tangent) {
-    constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
-    constexpr int kDofs = Dim * kNodes;
-    // About 2 MB of blocks per chunk: 800 groups in 2D GIMP, 40 in 3D, 16 for 64-node stencils.
-    constexpr Index kChunk = std::max<Index>(16, (2 << 20) / (kDofs * kDofs * sizeof(double)));
-    const auto& P = scene_.particles;
-    const Index groups = static_cast<Index>(group_begin_.size()) - 1;
-    group_blocks_.resize(at(std::min(groups, kChunk)));
-    for (auto& K : group_blocks_)
-      K.resize(kDofs, kDofs); // the heap-stored 3D blocks; a no-op for fixed sizes
-    for (Index first = 0; first < groups; first += kChunk) {
-      const Index count = std::min(kChunk, groups - first);
-      parallel_for(
-          count,
-          [&](Index i) {
-            PointStiffness<kDofs>& K = group_blocks_[at(i)];
-            K.setZero();
-            Eigen::Matrix<double, Dim, kNodes> grads;
-            Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
-            for (Index e = group_begin_[at(first + i)]; e < group_begin_[at(first + i + 1)]; ++e) {
-              const Index p = stencil_points_[at(e)][1];
-              const auto s = at(p);
-              int k = 0;
-              step_.map.for_each_node_of(p, [&](Index, double w, const V& grad) {
-                if constexpr (Axisymmetric)
-                  hoop[k] = w / radius_n(s);
-                grads.col(k++) = grad;
-              });
-              add_point_stiffness<Dim, Axisymmetric, kNodes>(grads, hoop, point_step_tangent(s),
-                                                             P.volume0[s], K);
-            }
-          },
-          8);
-      for (Index i = 0; i < count; ++i) {
-        const auto nodes = step_.map.stencil_nodes(point_of_group(first + i));
-        tangent.add_block(nodes, group_blocks_[at(i)]);
-      }
-    }
-    if (f_bar_)
-      f_bar_step_.add_coupling(
-          share, step_.map, P, [&](Index q) { return step_gradient(at(q)); }, tangent);
-    const auto& G = Ghost::face_matrix();
-    for (const auto& face : step_.ghost.faces()) {
-      if (!assembles(map, face))
-        continue;
-      const typename Ghost::FaceMatrix K_face = face.stiffness * G;
-      for (int a = 0; a < Dim; ++a)
-        tangent.add_component_block(face.nodes, a, K_face);
-    }
-    if (dynamic_) {
-      const auto& gids = map.overlap_gids();
-      for (Index l = 0; l < map.owned_count(); ++l)
-        tangent.add_diagonal(l, 4.0 * step_.dof_mass[at(gids[at(l)])] / (dt_ * dt_));
-    }
+    const typename ImplicitTangent<Dim, Shape, Axisymmetric>::Step step{
+        step_, trial_, scene_.particles, step_count_, dynamic_, dt_};
+    return tangent_.of_share(step, share, map, assembled_by(map), built);
   }
 
   // A step driven by prescribed displacements (a footing pushed into weightless soil) has its
@@ -579,100 +365,36 @@ private:
     }
   }
 
-  // dF and F of the share's points at the trial increment (local ids of map), and the
-  // material response there.
+  // The share's points at the trial increment (local ids of map).
   bool update_trial_state(const ParticleShare& share, const DofMap& map,
                           const Eigen::VectorXd& du) {
     const AddSeconds timer(timings_.material);
-    const auto& P = scene_.particles;
-    trial_dF_.resize(at(P.size()));
-    state_valid_ = false;
-    if constexpr (Axisymmetric)
-      trial_hoop_.resize(at(P.size()));
-    parallel_for(share.size(), [&](Index i) {
-      const Index p = share.begin + i;
-      M dF = M::Identity();
-      [[maybe_unused]] double u_r = 0; // the radial increment at the point (axisymmetry)
-      step_.map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
-        const V u = node_increment(map, n, du);
-        dF += u * grad.transpose();
-        if constexpr (Axisymmetric)
-          u_r += w * u[0];
-      });
-      trial_dF_[at(p)] = dF;
-      if constexpr (Axisymmetric)
-        trial_hoop_[at(p)] = 1.0 + u_r / radius_n(at(p)); // r_{n+1} / r_n
-      trial_F_[at(p)] = step_gradient(at(p)) * P.F[at(p)];
-    });
-    if (f_bar_ && !f_bar_step_.apply(
-                      share, P, [&](Index q) { return step_gradient(at(q)); }, trial_F_))
-      return false; // a cell turned inside out: Newton backtracks, the stepper may cut back
-    try {
-      for (std::size_t m = 0; m < scene_.materials.size(); ++m)
-        scene_.materials[m]->response(points_of_material(m, share), trial_F_, response_);
-    } catch (const NumericalError&) {
-      return false; // e.g. det F <= 0: Newton backtracks, the stepper may cut back
-    }
-    state_valid_ = true;
-    state_share_ = share;
-    state_du_ = du;
-    return true;
-  }
-
-  /// The share's points of material m (the material's list is ascending).
-  std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
-    const auto& ids = scene_.particles_of_material[m];
-    const auto first = std::lower_bound(ids.begin(), ids.end(), share.begin);
-    return {first, std::lower_bound(first, ids.end(), share.end)};
-  }
-
-  bool state_matches(const ParticleShare& share, const Eigen::VectorXd& du) const {
-    return state_valid_ && state_share_.begin == share.begin && state_share_.end == share.end &&
-           state_du_.size() == du.size() && state_du_ == du;
-  }
-
-  /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
-  StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
-    const Mat3& Fn = scene_.particles.F[s];
-    if (!f_bar_)
-      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, response_[s]);
-    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, response_[s]);
-  }
-
-  /// The 3x3 trial step gradient of point s: its Dim x Dim block, and the hoop stretch.
-  Mat3 step_gradient(std::size_t s) const {
-    if constexpr (Axisymmetric)
-      return Components::embed(trial_dF_[s], trial_hoop_[s]);
-    return embedded<Dim>(trial_dF_[s]);
-  }
-  /// The radius of point s at the step's start, r_n (axisymmetry; the points move at commit).
-  double radius_n(std::size_t s) const { return scene_.particles.x[s][0]; }
-
-  /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
-  double volume_ratio(std::size_t s) const {
-    return f_bar_ ? f_bar_step_.volume_ratio(static_cast<Index>(s)) : 1.0;
+    const auto increments = balance();
+    return trial_.update(
+        share, step_.map, [&](Index n) { return increments.node_increment(map, n, du); }, du);
   }
 
   // Moves the points with the converged increment and stores their new state.
   void commit(const Eigen::VectorXd& du, double dt) {
-    if (!state_matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
+    if (!trial_.matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed at the converged increment");
     const AddSeconds timer(timings_.commit);
     auto& P = scene_.particles;
     const double flip = scene_.spec.solver.flip;
+    const auto balance_at = balance();
     // Reactions: the internal force that the constrained components carry beyond the loads.
     std::vector<V> internal(step_.full_external.size(), V::Zero());
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = at(p);
       V dx = V::Zero();
-      for_each_internal_force(p, [&](Index n, double w, const V& f) {
+      trial_.for_each_internal_force(step_.map, p, [&](Index n, double w, const V& f) {
         internal[at(n)] += f;
-        dx += w * node_increment(whole_map_, n, du);
+        dx += w * balance_at.node_increment(whole_map_, n, du);
       });
-      const Mat3& F = trial_F_[s];
+      const Mat3& F = trial_.F(s);
       const double J = F.determinant();
       P.F[s] = F;
-      P.stress[s] = response_[s].kirchhoff / J;
+      P.stress[s] = trial_.kirchhoff(s) / J;
       P.volume[s] = J * P.volume0[s];
       P.x[s] += dx;
       if (dynamic_) {
@@ -683,12 +405,12 @@ private:
         V dv = V::Zero(), v_grid = V::Zero(), a = V::Zero();
         step_.map.for_each_node_of(p, [&](Index n, double w, const V&) {
           for (int c = 0; c < Dim; ++c) {
-            const Index dof = dof_of(n, c);
+            const Index dof = step_.displacement_dof(n, c);
             if (dof < 0) {
               v_grid[c] += w * step_.prescribed_du[at(n)][c] / dt;
               continue;
             }
-            const double a_new = newmark_acceleration(dof, du[dof]);
+            const double a_new = balance_at.newmark_acceleration(dof, du[dof]);
             a[c] += w * a_new;
             const double dv_node = 0.5 * dt * (step_.grid_a[at(dof)] + a_new);
             dv[c] += w * dv_node;
@@ -703,8 +425,8 @@ private:
     }
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->commit(scene_.particles_of_material[m]);
-    for_each_ghost_force(whole_map_, du,
-                         [&](Index n, int a, double f) { internal[at(n)][a] += f; });
+    balance_at.for_each_ghost_force(whole_map_, du, assembled_by(whole_map_),
+                                    [&](Index n, int a, double f) { internal[at(n)][a] += f; });
     // The loads on a node are whole on every rank holding it: its owner subtracts them; the
     // internal forces are each rank's own, summed over the ranks below.
     for (Index n = 0; n < step_.map.node_count(); ++n)
@@ -739,27 +461,11 @@ private:
   const Communicator* comm_ = nullptr;               ///< the run's ranks (one in a serial run)
   std::unique_ptr<DistributedLinearSolver> linear_;
   std::vector<double> material_young_; ///< per material, for the ghost penalty's scale
-  std::vector<M> trial_dF_;
-  std::vector<double> trial_hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
-  std::vector<Mat3> trial_F_;
-  std::vector<StressTangent> response_;
-  bool state_valid_ = false;  ///< trial_dF_, trial_F_, response_ hold state_share_ at state_du_
-  ParticleShare state_share_; ///< the points the trial state was last evaluated for
-  Eigen::VectorXd state_du_;
+  ImplicitTrialState<Dim, Shape, Axisymmetric> trial_;
   ParticleShare whole_; ///< this rank's points
   /// whole_'s DOF map: local ids are the step's unknowns (on one rank also their global ids).
   DofMap whole_map_;
-  /// A share's tangent assembler and the step and points its structure was built for.
-  struct ShareTangent {
-    LatticeAssembler<Dim> assembler;
-    Index step = -1, begin = -1, end = -1;
-  };
-  std::vector<ShareTangent> share_tangents_; ///< per share index (the serial solver: [0])
-  /// (stencil start, point) of the share's points, sorted: the points grouped by stencil.
-  std::vector<std::array<Index, 2>> stencil_points_;
-  std::vector<Index> group_begin_; ///< where each group starts in stencil_points_, and the end
-  /// One chunk of groups' summed blocks (assemble_tangent).
-  std::vector<PointStiffness<Dim * ParticleGridMap<Dim, Shape>::kStencilSize>> group_blocks_;
+  ImplicitTangent<Dim, Shape, Axisymmetric> tangent_;
   Index step_count_ = 0;           ///< steps prepared so far
   Index pattern_generation_ = 0;   ///< counts the tangent's distinct sparsity patterns so far
   Index analysed_generation_ = -1; ///< the pattern the linear solver was last analysed for
@@ -774,8 +480,6 @@ private:
   std::vector<Vec3> prescribed_reactions_;
   double round_off_force_ = 0; ///< eps * (largest p-wave modulus) * h
   double dt_ = 1;
-  bool f_bar_ = false; ///< F-bar volume averaging per cell (f_bar.hpp)
-  FBarStep<Dim, Axisymmetric> f_bar_step_;
 };
 
 template <int Dim, bool Axisymmetric> struct ImplicitIn {

@@ -48,6 +48,14 @@ public:
   Index local_dof_at(Index node, int k) const {
     return local_dofs_[at(node) * at(layout_.width()) + at(k)];
   }
+  /// local_dof_at() of a node the share's contributions reach: throws std::invalid_argument
+  /// for a node outside the overlap (a ghost node missing from it).
+  Index overlap_dof_at(Index node, int k) const {
+    const Index dof = local_dof_at(node, k);
+    if (dof == kNotInOverlap)
+      refuse_node_outside(node);
+    return dof;
+  }
 
   Index owned_count() const { return owned_count_; }
   Index overlap_count() const { return static_cast<Index>(gids_.size()); }
@@ -64,6 +72,8 @@ public:
   void add_to_global(const SparseMatrix& local, SparseMatrix& global) const;
 
 private:
+  [[noreturn]] void refuse_node_outside(Index node) const;
+
   enum NodeState : char { kOutside, kGhost, kOwned };
 
   int share_ = 0;

@@ -1,0 +1,167 @@
+#pragma once
+// The points' state at a trial increment of an implicit step: the step gradient
+// dF = I + grad(du) (and in axisymmetry the hoop stretch 1 + u_r / r_n), F = dF F_n with
+// F-bar's cell average where the case asks for it, and the material's Kirchhoff stress and
+// tangent there. It is evaluated for a share of the points at one increment and kept until
+// the increment changes: Newton asks for the residual and the tangent at the same increment.
+#include "f_bar_step.hpp"
+#include "step_tangent.hpp"
+#include "talus/core/errors.hpp"
+#include "talus/core/parallel.hpp"
+#include "talus/core/scene.hpp"
+#include "talus/grid/particle_grid_map.hpp"
+#include "talus/solver/particle_share.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <span>
+#include <vector>
+
+namespace talus {
+
+template <int Dim, class Shape, bool Axisymmetric> class ImplicitTrialState {
+  using V = Vec<Dim>;
+  using M = Mat<Dim>;
+  using Components = StepComponents<Dim, Axisymmetric>;
+
+public:
+  explicit ImplicitTrialState(Scene<Dim>& scene)
+      : scene_(scene), f_bar_(scene.spec.solver.f_bar),
+        f_bar_step_(scene.spec.solver.f_bar_out_of_plane) {
+    resize();
+  }
+
+  /// Sized for the scene's points (after points were added or removed); nothing is kept.
+  void resize() {
+    const auto np = at(scene_.particles.size());
+    F_.resize(np, Mat3::Identity());
+    dF_.resize(np, M::Identity());
+    if constexpr (Axisymmetric)
+      hoop_.resize(np, 1.0);
+    response_.resize(np);
+    if (f_bar_)
+      f_bar_step_.resize(static_cast<Index>(np));
+    valid_ = false;
+  }
+
+  /// A new step on `map`'s nodes: F-bar's cells at the points' start positions.
+  void prepare(const ParticleGridMap<Dim, Shape>& map) {
+    if (f_bar_)
+      f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
+    valid_ = false;
+  }
+
+  /// Whether the state is the share's at the increment du.
+  bool matches(const ParticleShare& share, const Eigen::VectorXd& du) const {
+    return valid_ && share_.begin == share.begin && share_.end == share.end &&
+           du_.size() == du.size() && du_ == du;
+  }
+
+  /// Evaluates the share's points at the increment whose nodal values increment(n) gives (du
+  /// names it for matches()). False when the increment is not admissible (a cell turned
+  /// inside out, det F <= 0): Newton then backtracks, and the stepper may cut back.
+  template <class Increment>
+  bool update(const ParticleShare& share, const ParticleGridMap<Dim, Shape>& map,
+              Increment&& increment, const Eigen::VectorXd& du) {
+    const auto& P = scene_.particles;
+    dF_.resize(at(P.size()));
+    valid_ = false;
+    if constexpr (Axisymmetric)
+      hoop_.resize(at(P.size()));
+    parallel_for(share.size(), [&](Index i) {
+      const Index p = share.begin + i;
+      M dF = M::Identity();
+      [[maybe_unused]] double u_r = 0; // the radial increment at the point (axisymmetry)
+      map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+        const V u = increment(n);
+        dF += u * grad.transpose();
+        if constexpr (Axisymmetric)
+          u_r += w * u[0];
+      });
+      dF_[at(p)] = dF;
+      if constexpr (Axisymmetric)
+        hoop_[at(p)] = 1.0 + u_r / radius_n(at(p)); // r_{n+1} / r_n
+      F_[at(p)] = step_gradient(at(p)) * P.F[at(p)];
+    });
+    if (f_bar_ && !f_bar_step_.apply(
+                      share, P, [&](Index q) { return step_gradient(at(q)); }, F_))
+      return false;
+    try {
+      for (std::size_t m = 0; m < scene_.materials.size(); ++m)
+        scene_.materials[m]->response(points_of_material(m, share), F_, response_);
+    } catch (const NumericalError&) {
+      return false;
+    }
+    valid_ = true;
+    share_ = share;
+    du_ = du;
+    return true;
+  }
+
+  /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's internal
+  /// force at its trial state: V0 G grad N, G = tau dF^-T the step's first Piola stress (and
+  /// F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the radial component.
+  template <class F>
+  void for_each_internal_force(const ParticleGridMap<Dim, Shape>& map, Index p, F&& f) const {
+    const auto s = at(p);
+    const Mat3 dF_inv = step_gradient(s).inverse();
+    const Mat3 G =
+        scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
+    const M G2 = G.topLeftCorner<Dim, Dim>();
+    [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
+    map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+      V force = G2 * grad;
+      if constexpr (Axisymmetric)
+        force[0] += hoop_per_weight * w;
+      f(n, w, force);
+    });
+  }
+
+  /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
+  StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
+    const Mat3& Fn = scene_.particles.F[s];
+    if (!f_bar_)
+      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, response_[s]);
+    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, response_[s]);
+  }
+
+  /// The 3x3 trial step gradient of point s: its Dim x Dim block, and the hoop stretch.
+  Mat3 step_gradient(std::size_t s) const {
+    if constexpr (Axisymmetric)
+      return Components::embed(dF_[s], hoop_[s]);
+    return embedded<Dim>(dF_[s]);
+  }
+  /// The radius of point s at the step's start, r_n (axisymmetry; the points move at commit).
+  double radius_n(std::size_t s) const { return scene_.particles.x[s][0]; }
+  /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
+  double volume_ratio(std::size_t s) const {
+    return f_bar_ ? f_bar_step_.volume_ratio(static_cast<Index>(s)) : 1.0;
+  }
+  const Mat3& F(std::size_t s) const { return F_[s]; }
+  const Mat3& kirchhoff(std::size_t s) const { return response_[s].kirchhoff; }
+
+  /// F-bar in the step, or null without it: its cells couple the tangent's points.
+  FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
+
+private:
+  /// The share's points of material m (the material's list is ascending).
+  std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
+    const auto& ids = scene_.particles_of_material[m];
+    const auto first = std::lower_bound(ids.begin(), ids.end(), share.begin);
+    return {first, std::lower_bound(first, ids.end(), share.end)};
+  }
+
+  Scene<Dim>& scene_;
+  bool f_bar_ = false; ///< F-bar volume averaging per cell (f_bar.hpp)
+  FBarStep<Dim, Axisymmetric> f_bar_step_;
+  std::vector<M> dF_;
+  std::vector<double> hoop_; ///< per point: the trial hoop stretch (axisymmetry only)
+  std::vector<Mat3> F_;
+  std::vector<StressTangent> response_;
+  bool valid_ = false;  ///< dF_, F_, response_ hold share_ at du_
+  ParticleShare share_; ///< the points the state was last evaluated for
+  Eigen::VectorXd du_;
+};
+
+} // namespace talus
