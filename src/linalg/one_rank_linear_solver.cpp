@@ -36,7 +36,8 @@ public:
   void export_add(const Eigen::VectorXd& overlap, Eigen::VectorXd& owned) const override {
     owned = overlap;
   }
-  void set_coordinates(Eigen::MatrixXd) override {} // no coarse levels to move between ranks
+  bool uses_coordinates() const override { return false; } // no coarse levels to move
+  void set_coordinates(Eigen::MatrixXd) override {}
   bool keeps_analysis_across_steps() const override { return true; }
 
 private:

@@ -8,7 +8,9 @@
 #include "talus/solver/rank_sums.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 
 namespace talus {
 
@@ -236,14 +238,15 @@ private:
         for_each_surface_load_node<Dim>(
             map_.nodes(), scene_.particles, load, map_.stencil(load.particle).start, Shape::kWidth,
             [&](Index n, double w) { state_.force[at(n)] += w * load.force; });
-    std::vector<typename NodeHalo<Dim>::Field> fields;
+    std::array<typename NodeHalo<Dim>::Field, 3> fields;
+    std::size_t count = 0;
     if constexpr ((kWhat & kMass) != 0) {
-      fields.push_back(NodeHalo<Dim>::field(state_.mass));
-      fields.push_back(NodeHalo<Dim>::field(state_.momentum));
+      fields[count++] = NodeHalo<Dim>::field(state_.mass);
+      fields[count++] = NodeHalo<Dim>::field(state_.momentum);
     }
     if constexpr ((kWhat & kForce) != 0)
-      fields.push_back(NodeHalo<Dim>::field(state_.force));
-    halo_.sum(fields);
+      fields[count++] = NodeHalo<Dim>::field(state_.force);
+    halo_.sum(std::span(fields.data(), count));
   }
 
   void constrain(Index n, V& vec) const {

@@ -212,7 +212,8 @@ public:
     if (whole_map_.owned_count() != step_.owned_dof_count)
       throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
     linear_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
-    linear_->set_coordinates(unknown_positions());
+    if (linear_->uses_coordinates())
+      linear_->set_coordinates(unknown_positions());
     if (whole_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())

@@ -1,8 +1,8 @@
 #pragma once
 // What an explicit step holds on its active nodes, as a structure of arrays: the grid side of
-// Particles. One list of the fields (for_each_field) sizes them every step; the halo sums and
-// the state guard take their arrays from it by name, and a new nodal field (a body's own
-// velocity for contact, a pore pressure) is one more member and one more line in the list.
+// Particles. One list of the fields (for_each_field) sizes them every step, the halo sums and
+// the state guard read its arrays, and a new nodal field (a body's own velocity for contact, a
+// pore pressure) is one more member and one more line in the list.
 #include "talus/core/types.hpp"
 
 #include <array>
@@ -18,8 +18,6 @@ template <int Dim> struct GridState {
   Array<Vec<Dim>> acceleration;
   Array<std::uint8_t> held;                          ///< FaceConditions::held
   Array<std::array<std::int8_t, Dim>> reaction_face; ///< FaceConditions::reaction_faces
-
-  Index size() const { return static_cast<Index>(mass.size()); }
 
   /// f(name, array) for every per-node array.
   template <class F> void for_each_field(F&& f) {

@@ -33,6 +33,8 @@ public:
   /// owned[i] = the sum over the ranks of their overlap values of owned unknown i (an Export
   /// with ADD), added in a fixed order. Collective.
   virtual void export_add(const Eigen::VectorXd& overlap, Eigen::VectorXd& owned) const = 0;
+  /// Whether set_coordinates() is worth calling before the next factorize().
+  virtual bool uses_coordinates() const { return true; }
   /// Where each unknown sits (one row per local unknown, its node's coordinates): MueLu moves
   /// its coarse levels onto one rank by them, for an exact coarse solve. Kept until replaced.
   virtual void set_coordinates(Eigen::MatrixXd xyz) = 0;

@@ -51,8 +51,7 @@ public:
   }
   /// The entry of (node, field, component) in a table of width() entries per node.
   std::size_t slot(Index node, int field, int c) const {
-    return static_cast<std::size_t>(node) * static_cast<std::size_t>(width_) +
-           static_cast<std::size_t>(offset(field) + c);
+    return at(node) * at(width_) + at(offset(field) + c);
   }
 
 private:
@@ -72,21 +71,13 @@ public:
 
   const NodeLayout& layout() const { return layout_; }
   /// Every component of `nodes` nodes without an unknown.
-  void reset(Index nodes) {
-    table_.assign(static_cast<std::size_t>(nodes) * static_cast<std::size_t>(layout_.width()),
-                  kNone);
-  }
-  Index nodes() const {
-    return layout_.width() ? static_cast<Index>(table_.size()) / layout_.width() : 0;
-  }
+  void reset(Index nodes) { table_.assign(at(nodes) * at(layout_.width()), kNone); }
+  Index nodes() const { return static_cast<Index>(table_.size()) / layout_.width(); }
 
   Index dof(Index node, int field, int c) const { return table_[layout_.slot(node, field, c)]; }
   void set(Index node, int field, int c, Index dof) { table_[layout_.slot(node, field, c)] = dof; }
   /// The unknown of a node's k-th component over all fields (k < layout().width()).
-  Index dof(Index node, int k) const {
-    return table_[static_cast<std::size_t>(node) * static_cast<std::size_t>(layout_.width()) +
-                  static_cast<std::size_t>(k)];
-  }
+  Index dof(Index node, int k) const { return table_[at(node) * at(layout_.width()) + at(k)]; }
   /// The whole table, width() entries per node.
   std::span<const Index> table() const { return table_; }
 
