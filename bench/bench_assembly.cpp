@@ -13,8 +13,9 @@
 // tangent pass includes the copy assemble_share makes into the caller's matrix (Newton's own
 // path, jacobian(), uses the assembler's matrix in place).
 // Run: build/bench/talus_bench --benchmark_filter=Assembly
-#include "talus/core/scene.hpp"
+#include "../src/solver/implicit_share_assembly.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/implicit_solver.hpp"
 
 #include <benchmark/benchmark.h>
@@ -30,18 +31,19 @@ struct Beam {
   Beam()
       : scene(build_scene<2>(
             read_case_file(std::string(TALUS_SOURCE_DIR) + "/cases/cantilever_large.yaml"))),
-        solver(make_implicit_solver(scene)) {
+        owned(make_implicit_solver(scene)), solver(&share_assembly(*owned)) {
     solver->prepare(0.02, 0.02, 0.02); // the first of the case's 50 load steps
     du = Eigen::VectorXd::Zero(solver->unknowns());
   }
   Scene<2> scene;
-  std::unique_ptr<ImplicitSolver> solver;
+  std::unique_ptr<ImplicitSolver> owned;
+  ImplicitShareAssembly* solver; ///< owned's assembly by shares
   Eigen::VectorXd du;
 };
 
 /// One share per range of points, with its DOF map, increment and tangent.
 struct Shares {
-  Shares(ImplicitSolver& solver, Index points, int count, const Eigen::VectorXd& du)
+  Shares(ImplicitShareAssembly& solver, Index points, int count, const Eigen::VectorXd& du)
       : shares(split_particles(points, count)) {
     const std::vector<int> owners = solver.node_owners(shares);
     const Eigen::VectorXd other = du.array() + 1e-6; // a second increment, 1e-5 of a cell

@@ -9,11 +9,11 @@
 // i.e. BM_RecoveryAndVoxels + (BM_FrameWrite/1 - BM_FrameWrite/0) against BM_ExplicitStep.
 // Run single-threaded for a stable comparison: OMP_NUM_THREADS=1 build/bench/talus_bench
 // --benchmark_filter='Explicit|Recovery|FrameWrite'.
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/results.hpp"
 #include "talus/post/stress_recovery.hpp"
 #include "talus/post/voxels.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/explicit_solver.hpp"
 
 #include <benchmark/benchmark.h>

@@ -1,8 +1,8 @@
 #include "talus/adapt/adapt.hpp"
 
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <Eigen/SVD>
 #include <algorithm>

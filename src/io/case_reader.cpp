@@ -3,10 +3,10 @@
 // read_*.cpp; this file holds the checked Map, the top level of the case and the entry points.
 #include "talus/io/case_reader.hpp"
 
-#include "talus/core/memory_estimate.hpp"
 #include "talus/grid/grid.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/material/plastic_material.hpp"
+#include "talus/scene/memory_estimate.hpp"
 
 #include "validator.hpp"
 #include "yaml_checks.hpp"

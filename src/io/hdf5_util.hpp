@@ -3,7 +3,7 @@
 // ids, error checking that turns a failing HDF5 call into std::runtime_error naming the
 // operation, the object and the file, string attributes, and the table of particle datasets
 // (names, shapes, units) that defines the run.h5 frame layout (docs/output-format.md).
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <hdf5.h>
 

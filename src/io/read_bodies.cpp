@@ -2,7 +2,7 @@
 // and refinement (docs/case-format.md, bodies). Shapes and their geometry: read_body_geometry.cpp.
 #include "validator.hpp"
 
-#include "talus/core/body_geometry.hpp"
+#include "talus/scene/body_geometry.hpp"
 
 namespace talus::detail {
 

@@ -1,7 +1,7 @@
 // The geometry of a body: its shape keys, a simple polygon, and that it lies inside the grid.
 #include "validator.hpp"
 
-#include "talus/core/body_geometry.hpp"
+#include "talus/scene/body_geometry.hpp"
 
 #include <optional>
 

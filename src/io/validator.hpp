@@ -4,8 +4,8 @@
 // sections of the case are read in their own files (read_*.cpp), all through one Validator.
 #include "talus/core/errors.hpp"
 #include "talus/core/expression.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/io/case_vocabulary.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include "yaml_support.hpp"
 

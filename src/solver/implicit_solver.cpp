@@ -1,5 +1,8 @@
 #include "talus/solver/implicit_solver.hpp"
+#include "implicit_commit.hpp"
+#include "implicit_reactions.hpp"
 #include "implicit_residual.hpp"
+#include "implicit_share_assembly.hpp"
 #include "implicit_step_setup.hpp"
 #include "implicit_tangent.hpp"
 #include "implicit_trial_state.hpp"
@@ -36,7 +39,9 @@ constexpr double kRoundOffFloor = 100.0;
 // stretch dF33 = 1 + u_r / r_n (StepComponents), the internal force its term
 // f_i,r += V0 G33 N_i / r_n, and the tangent the matching rows and columns.
 template <int Dim, class Shape, bool Axisymmetric>
-class ImplicitSolverImpl final : public ImplicitSolver, NonlinearSystem {
+class ImplicitSolverImpl final : public ImplicitSolver,
+                                 public ImplicitShareAssembly,
+                                 NonlinearSystem {
   using V = Vec<Dim>;
   using M = Mat<Dim>;
   using Ghost = GhostPenalty<Dim>;
@@ -190,7 +195,8 @@ public:
   bool pattern_changed() const override { return pattern_generation_ != analysed_generation_; }
   void pattern_analysed() override { analysed_generation_ = pattern_generation_; }
 
-  // --- assembly by shares -------------------------------------------------------------------
+  // --- assembly by shares (ImplicitShareAssembly: the tests'; step() assembles one)
+  // -------------------------------------------------------------------
   void prepare(double lambda_end, double ramp_end, double dt) override {
     prepare_connectivity(lambda_end, ramp_end, dt);
     scale_by_prescribed_motion();
@@ -375,86 +381,19 @@ private:
         share, step_.map, [&](Index n) { return increments.node_increment(map, n, du); }, du);
   }
 
-  // Moves the points with the converged increment and stores their new state.
+  // Moves the points with the converged increment and stores their new state; the reactions
+  // of the step.
   void commit(const Eigen::VectorXd& du, double dt) {
     if (!trial_.matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed at the converged increment");
     const AddSeconds timer(timings_.commit);
-    auto& P = scene_.particles;
-    const double flip = scene_.spec.solver.flip;
     const auto balance_at = balance();
-    // Reactions: the internal force that the constrained components carry beyond the loads.
-    std::vector<V> internal(step_.full_external.size(), V::Zero());
-    for (Index p = 0; p < P.size(); ++p) {
-      const auto s = at(p);
-      V dx = V::Zero();
-      trial_.for_each_internal_force(step_.map, p, [&](Index n, double w, const V& f) {
-        internal[at(n)] += f;
-        dx += w * balance_at.node_increment(whole_map_, n, du);
-      });
-      const Mat3& F = trial_.F(s);
-      const double J = F.determinant();
-      P.F[s] = F;
-      P.stress[s] = trial_.kirchhoff(s) / J;
-      P.volume[s] = J * P.volume0[s];
-      P.x[s] += dx;
-      if (dynamic_) {
-        // FLIP increments of the Newmark grid velocity, blended with its PIC interpolation by
-        // solver.flip (PIC damps the particle velocity noise that the grid cannot see);
-        // acceleration from the grid. A constrained component moves with its prescribed
-        // increment (zero on a fixed face).
-        V dv = V::Zero(), v_grid = V::Zero(), a = V::Zero();
-        step_.map.for_each_node_of(p, [&](Index n, double w, const V&) {
-          for (int c = 0; c < Dim; ++c) {
-            const Index dof = step_.displacement_dof(n, c);
-            if (dof < 0) {
-              v_grid[c] += w * step_.prescribed_du[at(n)][c] / dt;
-              continue;
-            }
-            const double a_new = balance_at.newmark_acceleration(dof, du[dof]);
-            a[c] += w * a_new;
-            const double dv_node = 0.5 * dt * (step_.grid_a[at(dof)] + a_new);
-            dv[c] += w * dv_node;
-            v_grid[c] += w * (step_.grid_v[at(dof)] + dv_node);
-          }
-        });
-        P.v[s] = flip * (P.v[s] + dv) + (1.0 - flip) * v_grid;
-        P.acceleration[s] = a;
-      } else {
-        P.v[s] = dx / dt; // rate of the pseudo-time, reported for output only
-      }
-    }
-    for (std::size_t m = 0; m < scene_.materials.size(); ++m)
-      scene_.materials[m]->commit(scene_.particles_of_material[m]);
+    std::vector<V> internal =
+        commit_points(scene_, step_, trial_, balance_at, whole_map_, du, dt, dynamic_);
     balance_at.for_each_ghost_force(whole_map_, du, assembled_by(whole_map_),
                                     [&](Index n, int a, double f) { internal[at(n)][a] += f; });
-    // The loads on a node are whole on every rank holding it: its owner subtracts them; the
-    // internal forces are each rank's own, summed over the ranks below.
-    for (Index n = 0; n < step_.map.node_count(); ++n)
-      if (step_.node_owner[at(n)] == step_.rank())
-        internal[at(n)] -= step_.full_external[at(n)];
-    prescribed_reactions_.assign(scene_.spec.prescribed.size(), Vec3::Zero());
-    for (Index n = 0; n < step_.map.node_count(); ++n) {
-      const std::int32_t region = step_.node_region[at(n)];
-      if (region < 0)
-        continue;
-      for (int a = 0; a < Dim; ++a)
-        if (is_prescribed(n, a))
-          prescribed_reactions_[at(region)][a] += internal[at(n)][a];
-    }
-    for (auto& r : reactions_)
-      r.setZero();
-    for (Index n = 0; n < step_.map.node_count(); ++n)
-      for (int a = 0; a < Dim; ++a)
-        if (const int face = step_.reaction_face[at(n)][at(a)]; face >= 0 && !is_prescribed(n, a))
-          reactions_[static_cast<std::size_t>(face)][a] += internal[at(n)][a];
-    reactions_ = summed_over_ranks(reactions_, *comm_);
-    prescribed_reactions_ = summed_over_ranks(std::span<const Vec3>(prescribed_reactions_), *comm_);
-  }
-
-  bool is_prescribed(Index n, int a) const {
-    const std::int32_t region = step_.node_region[at(n)];
-    return region >= 0 && scene_.spec.prescribed[at(region)].displacement[at(a)].has_value();
+    ImplicitReactions<Dim, Shape, Axisymmetric>(step_, scene_.spec.prescribed, *comm_)
+        .compute(std::move(internal), reactions_, prescribed_reactions_);
   }
 
   Scene<Dim>& scene_;

@@ -8,10 +8,10 @@
 // serial run is a run on one rank): the halo (parallel/node_halo.hpp) makes the node sums
 // whole, every unknown gets its global id, and the ghost-penalty faces come from a view of the
 // neighbours' nodes.
-#include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/node_layout.hpp"
 #include "talus/parallel/node_halo.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
 #include <Eigen/Core>

@@ -8,8 +8,8 @@
 #include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/particle_share.hpp"
 
 #include <Eigen/Core>

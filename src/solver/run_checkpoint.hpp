@@ -1,7 +1,8 @@
 #pragma once
-// Internal to run_case (src/solver/run.cpp): what a checkpoint holds of a run beyond the
-// scene's points (scene_checkpoint.hpp), where the checkpoints live, and how a resume finds
-// the newest good one and checks the case against it. Layout: docs/output-format.md.
+// Internal to run_case (src/solver/run.cpp, case_run.hpp): what a checkpoint holds of a run beyond
+// the scene's points (scene_checkpoint.hpp), where the checkpoints live, and how a resume finds the
+// newest good one and checks the case against it. Layout: docs/output-format.md.
+#include "run_state.hpp"
 #include "talus/io/checkpoint_file.hpp"
 #include "talus/io/results.hpp"
 #include "talus/solver/implicit_solver.hpp"
@@ -24,22 +25,13 @@ struct RunProgress {
   // --- where the run is ----------------------------------------------------------------------
   Index stage = 0;            ///< the stage in progress, or the next one at a stage boundary
   bool stage_started = false; ///< false: the checkpoint is at the start of `stage`
-  Index step = 0;
-  Index stage_first_step = 0;
-  double t = 0; ///< the stage's time
+  LoopCounters loop;
   double stage_start_time = 0;
   double strength_factor = 1;      ///< the materials' strength factor now
   double stage_start_strength = 1; ///< the factor the stage started from
   double stage_wall_seconds = 0;   ///< spent in the stage so far
   double wall_seconds = 0;         ///< spent in the run so far
   std::string linear_solver;       ///< implicit: the backend the run chose
-  double implicit_dt = 0;          ///< implicit: the current load step (0: time.dt)
-  int easy_steps = 0;              ///< implicit: easy steps in a row
-  ImplicitSolver::Continuation continuation{};
-  /// RunOptions::measure_stiffness: the reference compliance and the current stiffness (NaN:
-  /// none yet).
-  double reference_compliance = std::numeric_limits<double>::quiet_NaN();
-  double current_stiffness = std::numeric_limits<double>::quiet_NaN();
   StageWatch::Memory watch{};
   // --- what it has written and counted -------------------------------------------------------
   std::map<std::string, double> extra; ///< summary.json's numbers so far
@@ -47,13 +39,7 @@ struct RunProgress {
   std::vector<ResultsWriter::FrameRecord> frames;
   std::uintmax_t timeseries_bytes = 0; ///< timeseries.csv's length
   std::uintmax_t newton_log_bytes = 0; ///< newton.log's length (0: none)
-  // --- the recorder's schedule ---------------------------------------------------------------
-  double next_frame_time = 0;
-  bool frame_at_current_step = true;
-  Index last_frame_step = 0;
-  double last_frame_time = 0;
-  double frame_seconds = 0;
-  double post_seconds = 0;
+  FrameSchedule schedule;              ///< the recorder's
 };
 
 /// The directory of a run's checkpoints.

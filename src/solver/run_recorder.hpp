@@ -1,14 +1,15 @@
 #pragma once
-// Internal to run_case (src/solver/run.cpp): what a run records while it steps. The frames on
-// the output schedule, timeseries.csv rows, the progress line, and the state guard's stop.
-// Times are the stage's own (from 0 at its start); frames and rows are written at the run's
+// Internal to run_case (src/solver/run.cpp, case_run.hpp): what a run records while it steps. The
+// frames on the output schedule, timeseries.csv rows, the progress line, and the state guard's
+// stop. Times are the stage's own (from 0 at its start); frames and rows are written at the run's
 // time, the stage's start time plus the stage's time.
-#include "talus/core/scene.hpp"
+#include "run_state.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
-#include "talus/parallel/migration.hpp"
 #include "talus/post/stress_recovery.hpp"
 #include "talus/post/voxels.hpp"
+#include "talus/scene/migration.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/energies.hpp"
 #include "talus/solver/state_guard.hpp"
 
@@ -169,20 +170,14 @@ std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
 
 // What both analyses share while stepping: frames on the output schedule, time-series rows,
 // progress, and the state guard's stop.
-template <int Dim> struct Recorder {
+template <int Dim> struct Recorder : FrameSchedule {
   const Scene<Dim>& scene;
   ResultsWriter& writer;
   TimeSeriesWriter& series;
   Progress* progress = nullptr; ///< the current stage's progress line
   double frame_interval = 0;
-  double next_frame_time = 0;
   double stage_start_time = 0;
-  std::size_t stage = 0; ///< index into the run's stages
-  bool frame_at_current_step = true;
-  Index last_frame_step = 0;
-  double last_frame_time = 0;
-  double post_seconds = 0;  ///< stress recovery and voxels, the frames' post-processing
-  double frame_seconds = 0; ///< writing frames, post-processing included
+  std::size_t stage = 0;                         ///< index into the run's stages
   std::optional<StressRecovery<Dim>> recovery{}; ///< made on the first frame, reused after
   Voxels<Dim> voxels{};
   std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame

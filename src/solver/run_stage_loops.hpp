@@ -1,12 +1,15 @@
 #pragma once
-// Internal to run_case (src/solver/run.cpp): the stepping loops of one stage, explicit and
-// implicit, and what they share: the loop's state (time, step, the checkpoint hook), the
-// stage's strength factor, splitting after a step, the stop conditions.
+// Internal to run_case (src/solver/run.cpp, case_run.hpp): the stepping loops of one stage,
+// explicit and implicit, and what they share: the loop's state (time, step, the checkpoint hook),
+// the stage's strength factor, splitting after a step, the stop conditions.
+#include "load_step_controller.hpp"
+#include "newton_log.hpp"
 #include "run_recorder.hpp"
+#include "run_state.hpp"
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
-#include "talus/core/splitting.hpp"
 #include "talus/material/plastic_material.hpp"
+#include "talus/scene/scene.hpp"
+#include "talus/scene/splitting.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/run.hpp"
@@ -39,29 +42,19 @@ template <int Dim> bool interrupt_noticed(const Scene<Dim>& scene) {
   return g_interrupted;
 }
 
-struct LoopState {
-  double t = 0;               ///< the stage's time
-  Index step = 0;             ///< steps of the whole run
-  Index stage_first_step = 0; ///< `step` when the current stage began
+struct LoopState : LoopCounters {
   /// RunOptions::stop_after_step, and what it said when it ended the run.
   std::function<std::optional<std::string>(const StepState&)> stop_after_step{};
   std::optional<std::string> stopped{};
-  /// RunOptions::measure_stiffness: the reference compliance (the run's first measured step)
-  /// and the last step's current stiffness, reference / its compliance.
-  bool measure_stiffness = false;
-  double reference_compliance = std::numeric_limits<double>::quiet_NaN();
-  double current_stiffness = std::numeric_limits<double>::quiet_NaN();
+  bool measure_stiffness = false; ///< RunOptions::measure_stiffness
   // --- checkpoints ---
   /// Called after each completed step and when an interrupt is noticed: writes a checkpoint
-  /// when one is due (run_case_in decides).
+  /// when one is due (the Run decides).
   std::function<void()> checkpoint{};
   /// Adds what the stage in progress has counted but not yet put into the run's numbers.
   std::function<void(std::map<std::string, double>&)> stage_totals{};
   /// The first stage loop of a resumed run continues a stage a checkpoint interrupted.
   bool resumed_mid_stage = false;
-  double implicit_dt = 0; ///< implicit: the load step now (0: time.dt)
-  int easy_steps = 0;     ///< implicit: easy steps in a row
-  ImplicitSolver::Continuation continuation{};
 
   void checkpoint_if_due() const {
     if (checkpoint)
@@ -288,9 +281,8 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
   result.extra["active_nodes_last_step"] = static_cast<double>(solver->active_nodes());
 }
 
-/// Implicit analyses: steps cut back (halved) when Newton fails and
-/// grown back (doubled, up to the initial step) after two easy steps. Each step's Newton
-/// residual history goes to newton.log. A failure at the minimum step ends the run after
+/// Implicit analyses: load steps from the LoadStepController, each attempt's Newton residual
+/// history in newton.log. A failure at the minimum step ends the run after
 /// writing the last converged state as a frame. `loads_ramp`: the quasi-static loads follow
 /// the stage's pseudo-time (the first stage); otherwise they act in full.
 template <int Dim>
@@ -303,30 +295,16 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     solver->measure_load_compliance();
   result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
-  const double dt0 = *time.dt;
-  const double min_dt = time.smallest_step();
-  double dt = dt0;
-  int easy_steps = 0;
+  LoadStepController steps(time, scene.spec.solver.easy_newton_iterations, s.load_step);
   const bool resumed = s.resumed_mid_stage;
   s.resumed_mid_stage = false;
-  if (resumed) {
+  if (resumed)
     solver->continue_from(s.continuation);
-    dt = s.implicit_dt;
-    easy_steps = s.easy_steps;
-  }
-  // One log for the run: the first stage creates it, later stages append. Newton is one over
-  // the ranks: rank 0 writes it.
-  const bool writes = scene.decomposition->comm().root();
-  std::FILE* log =
-      std::fopen(writes ? (out_dir / "newton.log").c_str() : "/dev/null", s.step == 0 ? "w" : "a");
-  if (!log)
-    throw std::runtime_error("cannot create " + (out_dir / "newton.log").string());
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log_guard(log, std::fclose);
-  if (s.step == 0)
-    std::fprintf(log, "# step t_end dt converged iterations | max|R|/scale at each iterate\n");
+  else
+    steps.start();
+  NewtonLog log(out_dir, scene.decomposition->comm().root(), s.step == 0);
   if (!scene.spec.stages.empty() && !resumed)
-    std::fprintf(log, "# stage %zu '%s' from t = %.10g\n", rec.stage + 1,
-                 scene.spec.stages[rec.stage].name.c_str(), rec.stage_start_time);
+    log.stage(rec.stage, scene.spec.stages[rec.stage].name, rec.stage_start_time);
   Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
         max_iterations = 0;
   if (s.step == 0)
@@ -371,7 +349,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
         break;
       }
       const double target = rec.target(time.end_time);
-      double step_dt = std::min(dt, target - s.t);
+      double step_dt = std::min(steps.dt(), target - s.t);
       if (s.t + step_dt * (1.0 + kSliver) >= target)
         step_dt = target - s.t;
       const double t_end = (s.t + step_dt >= target) ? target : s.t + step_dt;
@@ -385,22 +363,10 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       newton_iterations += r.iterations;
       linear_solves += r.linear_solves;
       linear_iterations += r.linear_iterations;
-      std::fprintf(log, "%lld %.10g %.6g %s %d |", static_cast<long long>(s.step + 1),
-                   rec.stage_start_time + t_end, step_dt, r.converged ? "yes" : "no", r.iterations);
-      if (!r.abandoned_history.empty()) {
-        std::fprintf(log, " [%s:", r.abandoned_line_search ? "line search" : "plain Newton");
-        for (double v : r.abandoned_history)
-          std::fprintf(log, " %.3e", v);
-        std::fprintf(log, "; %s:]", r.abandoned_line_search ? "plain Newton" : "line search");
-      }
-      for (double v : r.residual_history)
-        std::fprintf(log, " %.3e", v);
-      std::fprintf(log, "%s%s\n", r.converged ? "" : "  ", r.message.c_str());
-      std::fflush(log);
+      log.attempt(s.step + 1, rec.stage_start_time + t_end, step_dt, r);
       if (!r.converged) {
         ++cutbacks;
-        easy_steps = 0;
-        if (step_dt <= min_dt * (1.0 + 1e-12))
+        if (!steps.cut_back(step_dt))
           throw NewtonStall(fmt::format(
               "Newton did not converge at the minimum load step dt = {:g} (t = {:g} -> {:g}{}): "
               "{}",
@@ -408,9 +374,6 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
               strength.factor() != 1.0 ? fmt::format(", strength factor {:.6g}", strength.factor())
                                        : "",
               r.message));
-        dt = std::max(0.5 * step_dt, min_dt);
-        s.implicit_dt = dt; // an interrupt now resumes with the cut-back step
-        s.easy_steps = easy_steps;
         continue;
       }
       rec.stop_if_violated(find_particle_violation(scene.particles),
@@ -424,17 +387,9 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       ask_stop(s, scene, rec.stage_start_time + s.t);
       split_after_step(scene, *solver, result);
       move_points_to_owners(scene, *solver, result);
-      const int easy = scene.spec.solver.easy_newton_iterations;
-      if (r.iterations <= easy && ++easy_steps >= 2) {
-        dt = std::min(2.0 * dt, dt0);
-        easy_steps = 0;
-      } else if (r.iterations > easy) {
-        easy_steps = 0;
-      }
+      steps.converged(r.iterations);
       rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
                      solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
-      s.implicit_dt = dt;
-      s.easy_steps = easy_steps;
       s.continuation = solver->continuation();
       s.checkpoint_if_due();
       if (stage_ends || s.stopped)

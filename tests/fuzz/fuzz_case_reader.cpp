@@ -14,9 +14,9 @@
 //   talus_fuzz_case_reader --replay saved.yaml        (one input, as the loop would run it,
 //                                                     with saved.yaml.set's overrides)
 #include "talus/core/errors.hpp"
-#include "talus/core/memory_estimate.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/memory_estimate.hpp"
+#include "talus/scene/scene.hpp"
 
 #include "case_mutator.hpp"
 

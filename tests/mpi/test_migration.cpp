@@ -2,9 +2,9 @@
 // share of the points. A point that moves to another rank arrives with every array it carries,
 // its material history, its tractions and its probe; nothing is lost, duplicated or changed,
 // so the mass and momentum summed in the serial order are bitwise those before the move.
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
-#include "talus/parallel/migration.hpp"
+#include "talus/scene/migration.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <gtest/gtest.h>
 

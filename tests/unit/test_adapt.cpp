@@ -4,8 +4,8 @@
 // its input errors, and `talus adapt` end to end on a small collapsing column, in 2D and 3D.
 #include "talus/adapt/adapt.hpp"
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 #include "temporary_directory.hpp"
 
 #include <gtest/gtest.h>

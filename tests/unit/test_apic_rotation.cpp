@@ -3,7 +3,7 @@
 // stress, (3 + nu) / 8 rho omega^2 R^2 at the centre (static value; a sudden release makes the
 // fundamental mode overshoot to twice that, hence the bound 4 used by the rigid_rotation and
 // stability_rotation cases), and its energy, kinetic plus stored, cannot grow.
-#include "talus/core/scene.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/energies.hpp"
 #include "talus/solver/explicit_solver.hpp"
 

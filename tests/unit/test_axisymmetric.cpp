@@ -2,9 +2,9 @@
 // masses and tractions the scene builds (their sums against closed-form ring integrals), the
 // axis holding the radial component, and splitting keeping each ring's mass and volume.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
-#include "talus/core/splitting.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
+#include "talus/scene/splitting.hpp"
 
 #include <gtest/gtest.h>
 

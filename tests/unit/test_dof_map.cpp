@@ -1,10 +1,11 @@
-// Assembly by shares (include/talus/linalg/dof_map.hpp, ImplicitSolver::assemble_share): the
+// Assembly by shares (include/talus/linalg/dof_map.hpp, ImplicitShareAssembly::assemble_share): the
 // residual and tangent of the cantilever assembled as two shares of its points, scattered to
 // global DOFs and summed, equal the one-share (serial) assembly; every DOF is owned by exactly
 // one share; a share whose DOF map lacks one of its ghost nodes is refused.
-#include "talus/core/scene.hpp"
+#include "../../src/solver/implicit_share_assembly.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/linalg/dof_map.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/implicit_solver.hpp"
 
 #include <gtest/gtest.h>
@@ -50,7 +51,7 @@ struct Assembly {
 };
 
 /// The residual and tangent at the global increment du, assembled share by share and summed.
-Assembly assemble_in_shares(ImplicitSolver& solver, const std::vector<ParticleShare>& shares,
+Assembly assemble_in_shares(ImplicitShareAssembly& solver, const std::vector<ParticleShare>& shares,
                             const Eigen::VectorXd& du) {
   const Index n = solver.unknowns();
   Assembly sum{Eigen::VectorXd::Zero(n), SparseMatrix(n, n)};
@@ -79,7 +80,7 @@ double max_abs(const SparseMatrix& A) {
 struct Prepared {
   explicit Prepared(const std::string& text) : scene(build_scene<2>(read_case_text(text, "test"))) {
     solver = make_implicit_solver(scene);
-    solver->prepare(1.0, 1.0, 0.05);
+    share_assembly(*solver).prepare(1.0, 1.0, 0.05);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> d(-1e-3, 1e-3);
     du = Eigen::VectorXd::NullaryExpr(solver->unknowns(), [&] { return d(rng); });
@@ -95,7 +96,7 @@ struct Prepared {
 // face would change (about 1e-3 of an entry or more).
 void expect_two_shares_equal_one(const std::string& text) {
   Prepared run(text);
-  ImplicitSolver& solver = *run.solver;
+  ImplicitShareAssembly& solver = share_assembly(*run.solver);
   const Index np = run.scene.particles.size();
   ASSERT_GT(solver.unknowns(), 0);
   const Assembly one = assemble_in_shares(solver, split_particles(np, 1), run.du);
@@ -126,7 +127,7 @@ TEST(DofMap, TwoSharesSumToOneDynamicGhostPenalty) {
 
 TEST(DofMap, EachDofOwnedExactlyOnce) {
   Prepared run(cantilever("implicit_quasistatic", "{shape: gimp, ghost_penalty: 0.1}"));
-  ImplicitSolver& solver = *run.solver;
+  ImplicitShareAssembly& solver = share_assembly(*run.solver);
   for (const int count : {1, 2, 3}) {
     const auto shares = split_particles(run.scene.particles.size(), count);
     const std::vector<int> owners = solver.node_owners(shares);
@@ -157,7 +158,7 @@ TEST(DofMap, EachDofOwnedExactlyOnce) {
 
 TEST(DofMap, RefusesAShareMissingAGhostNode) {
   Prepared run(cantilever("implicit_quasistatic", "{shape: gimp, ghost_penalty: 0.1}"));
-  ImplicitSolver& solver = *run.solver;
+  ImplicitShareAssembly& solver = share_assembly(*run.solver);
   const auto shares = split_particles(run.scene.particles.size(), 2);
   const std::vector<int> owners = solver.node_owners(shares);
   const ParticleShare& second = shares[1];
@@ -186,7 +187,7 @@ TEST(DofMap, RefusesAShareMissingAGhostNode) {
 // only part of a cell cannot assemble it, and says so instead of assembling a wrong tangent.
 TEST(DofMap, FBarRefusesASplitCell) {
   Prepared run(cantilever("implicit_quasistatic", "{shape: gimp, f_bar: true}"));
-  ImplicitSolver& solver = *run.solver;
+  ImplicitShareAssembly& solver = share_assembly(*run.solver);
   // The first point alone: its cell holds four (2 x 2 points per cell).
   const std::vector<ParticleShare> shares = {{0, 0, 1}, {1, 1, run.scene.particles.size()}};
   const std::vector<int> owners = solver.node_owners(shares);

@@ -5,8 +5,8 @@
 // F-bar (the in-plane block scaled by (J_bar / j)^(1/2), dF33 = 1) must not. The scene is a
 // small 2:1 Mohr-Coulomb slope (psi = 0) brought to its full weight in one load step at
 // strength factor 1.25, so that part of it yields and the volume averaging matters.
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/implicit_solver.hpp"
 
 #include <fmt/format.h>

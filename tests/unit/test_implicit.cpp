@@ -4,11 +4,11 @@
 // the self-weight of an elastic block (global equilibrium and the 1D uniaxial-strain column).
 // Every run goes to a fresh temporary directory that is removed afterwards.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/run.hpp"
 #include "temporary_directory.hpp"
 

@@ -1,9 +1,9 @@
 // The memory estimate (core/memory_estimate.hpp) against the heap a small scene really takes:
 // glibc's mallinfo2 before and after building the scene, making the solver and taking one step
 // (which builds the particle-grid map and, implicitly, the matrix and its factor).
-#include "talus/core/memory_estimate.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/memory_estimate.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/implicit_solver.hpp"
 

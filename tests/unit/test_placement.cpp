@@ -1,8 +1,8 @@
 // bodies[i].placement: the lattice offset and the seeded jitter of the material points, as read
 // from a case and as built into a scene.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // Elasto-plastic materials in whole runs: the plastic_strain output field, the geostatic initial
 // stress, the global Newton iteration with Mohr-Coulomb, and the colliding Tresca discs. Every
 // run goes to a fresh temporary directory that is removed afterwards.
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
 #include "talus/material/plastic_material.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/implicit_solver.hpp"
 #include "talus/solver/run.hpp"
 #include "temporary_directory.hpp"

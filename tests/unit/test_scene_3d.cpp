@@ -4,8 +4,8 @@
 // the six faces, and spreads a traction over a box face with the right resultant; an explicit
 // 3D run writes results ParaView's XDMF readers open.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/run.hpp"
 #include "temporary_directory.hpp"
 

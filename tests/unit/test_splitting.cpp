@@ -6,11 +6,11 @@
 // bodies without a split block, tractions on split points, and whole runs: a scene in which no
 // point meets the criterion gives bitwise the same results, and explicit and implicit-dynamic
 // runs that do split keep their mass.
-#include "talus/core/splitting.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
 #include "talus/material/material.hpp"
+#include "talus/scene/splitting.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/run.hpp"
 #include "temporary_directory.hpp"

@@ -4,9 +4,9 @@
 // point, so mass, volume, momentum and kinetic energy are compared with ==), the children
 // tiling the parent's deformed hexahedron (round-off 1e-12), and a whole scene whose top
 // traction follows the children.
-#include "talus/core/scene.hpp"
-#include "talus/core/splitting.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
+#include "talus/scene/splitting.hpp"
 
 #include <gtest/gtest.h>
 

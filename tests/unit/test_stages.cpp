@@ -3,8 +3,8 @@
 // factor moves the stresses onto the weaker surface, and a stage ends at rest or on its
 // wall-time limit with the reason recorded.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/solver/stage_watch.hpp"
 #include "temporary_directory.hpp"

@@ -3,10 +3,10 @@
 // stops a trial whose crest has slid (RunOptions::stop_after_step), and small searches end to
 // end.
 #include "talus/core/errors.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/fos_refinement.hpp"
 #include "talus/solver/run.hpp"
 #include "talus/solver/strength_reduction.hpp"

@@ -1,8 +1,8 @@
 // Particle <-> grid transfers: the gather form of P2G conserves mass and momentum, agrees with
 // the textbook scatter, reproduces linear fields in G2P, and the explicit solver gives bitwise
 // identical results for any thread count.
-#include "talus/core/scene.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/shape/shape_functions.hpp"
 #include "talus/solver/explicit_solver.hpp"
 

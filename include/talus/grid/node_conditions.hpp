@@ -6,7 +6,7 @@
 //     component whatever x_min says;
 //   - the prescribed-displacement boxes, which follow their displacement in whole cells.
 #include "talus/grid/grid.hpp"
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 // Reads a YAML case file into a CaseSpec. Every problem is reported as an InputError naming
 // file:line:column and the key path; nothing is written before the whole case validated.
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <string>
 #include <vector>

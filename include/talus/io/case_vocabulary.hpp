@@ -1,7 +1,7 @@
 #pragma once
 // The words a case file may use for its enumerated keys, in one place: the case reader validates
 // against these tables and `talus info` prints them, so the two cannot drift apart.
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <string>
 #include <utility>

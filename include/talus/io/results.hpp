@@ -2,9 +2,9 @@
 // Results of one run in a directory: run.h5 (frames), run.xmf (ParaView), timeseries.csv and
 // summary.json. Layout documented in docs/output-format.md.
 #include "talus/core/particles.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/post/stress_recovery.hpp"
 #include "talus/post/voxels.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <array>
 #include <cstdio>

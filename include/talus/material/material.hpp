@@ -4,8 +4,8 @@
 // deformation gradient the particles carry (plane strain: the in-plane block with F33 = 1).
 #include "talus/core/parallel.hpp"
 #include "talus/core/types.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/material/stress_tangent.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <memory>
 #include <span>

@@ -6,9 +6,9 @@
 // stored with. The implicit solver evaluates trial states on every Newton iterate and accepts
 // them with commit() once the step has converged; the explicit solver's update_stress()
 // evaluates and accepts in one go. Only materials of this kind allocate history.
-#include "talus/io/case_spec.hpp"
 #include "talus/material/material.hpp"
 #include "talus/material/plasticity/elastoplastic_response.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <memory>
 #include <vector>

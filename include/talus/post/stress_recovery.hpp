@@ -9,7 +9,7 @@
 // positions.
 #include "talus/core/particles.hpp"
 #include "talus/grid/grid.hpp"
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <array>
 #include <memory>

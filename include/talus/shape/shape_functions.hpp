@@ -15,10 +15,10 @@
 //  * CpdiShape (shape/cpdi.hpp): CPDI over the deformed voxel, not a tensor product; it fills
 //    a point's weights on all its stencil's nodes at once.
 #include "talus/core/types.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/shape/bspline.hpp"
 #include "talus/shape/cpdi.hpp"
 #include "talus/shape/gimp.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <cmath>
 #include <memory>

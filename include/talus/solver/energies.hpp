@@ -1,6 +1,6 @@
 #pragma once
 // Energy and momentum of the material points, for timeseries.csv and the stability checks.
-#include "talus/core/scene.hpp"
+#include "talus/scene/scene.hpp"
 
 namespace talus {
 

@@ -5,7 +5,7 @@
 // The particle-to-grid transfer is written as a gather: every active node sums over the
 // particles of the neighbouring bins in a fixed order. No two threads write the same node, so
 // the result is bitwise identical for any thread count.
-#include "talus/core/scene.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/energies.hpp"
 #include "talus/solver/state_guard.hpp"
 

@@ -21,9 +21,9 @@
 // one share per rank: the step's preparation is the rank's, made whole by halo sums
 // (implicit_step_setup.hpp), the shares are added by a Tpetra Export (ADD) and solved by Belos
 // with MueLu (distributed_linear_solver.hpp), and Newton's vectors hold the owned unknowns.
-#include "talus/core/scene.hpp"
 #include "talus/linalg/dof_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/newton.hpp"
 #include "talus/solver/particle_share.hpp"
@@ -102,32 +102,6 @@ public:
   };
   virtual Continuation continuation() const = 0;
   virtual void continue_from(const Continuation& c) = 0;
-
-  // --- assembly by shares (step() runs them as one share) -----------------------------------
-  /// Sets up the step that step(lambda_end, ramp_end, dt) would take: connectivity at the
-  /// step's start, the global DOF numbering (unknowns() of them), node masses and loads.
-  virtual void prepare(double lambda_end, double ramp_end, double dt) = 0;
-  /// The global unknown of every (grid node, field, component), negative for none (held,
-  /// prescribed or massless).
-  virtual const NodeDofs& global_dofs() const = 0;
-  /// Per grid node, the share that owns it: the lowest-indexed share whose points reach it;
-  /// -1 for nodes no point reaches.
-  virtual std::vector<int> node_owners(std::span<const ParticleShare> shares) const = 0;
-  /// The grid nodes the share's assembly reaches, ascending: its points' stencils and the
-  /// nodes of the ghost-penalty faces it assembles (those whose first on-face node it owns).
-  virtual std::vector<Index> touched_nodes(const ParticleShare& share,
-                                           std::span<const int> node_owner) const = 0;
-  /// The share's DOF map over its touched nodes, numbered by the step's global DOFs.
-  virtual DofMap dof_map(const ParticleShare& share, std::span<const int> node_owner) const = 0;
-  /// Evaluates the share's points at the increment du_overlap (the share's DOFs in the local
-  /// ids of `map`; the prescribed components follow the step's ramp) and assembles the share's
-  /// residual (sized and set to the overlap DOFs) and/or tangent (set to the overlap DOFs' square
-  /// matrix; the share's sparsity structure is kept for the next call with the same share in
-  /// the same step); either may be null. Returns false if a material update failed. Throws
-  /// std::invalid_argument if the share reaches a node outside `map`.
-  virtual bool assemble_share(const ParticleShare& share, const DofMap& map,
-                              const Eigen::VectorXd& du_overlap, Eigen::VectorXd* residual,
-                              SparseMatrix* tangent) = 0;
 };
 
 /// `prescribed_fraction_reached`: the fraction of the prescribed displacements already applied

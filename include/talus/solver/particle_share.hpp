@@ -4,8 +4,6 @@
 // holding every point; a later issue gives each MPI rank its own.
 #include "talus/core/types.hpp"
 
-#include <vector>
-
 namespace talus {
 
 struct ParticleShare {
@@ -16,13 +14,5 @@ struct ParticleShare {
   Index size() const { return end - begin; }
   bool contains(Index p) const { return p >= begin && p < end; }
 };
-
-/// `count` contiguous shares of near-equal size covering the points [0, particle_count).
-inline std::vector<ParticleShare> split_particles(Index particle_count, int count) {
-  std::vector<ParticleShare> shares;
-  for (int s = 0; s < count; ++s)
-    shares.push_back({s, particle_count * s / count, particle_count * (s + 1) / count});
-  return shares;
-}
 
 } // namespace talus

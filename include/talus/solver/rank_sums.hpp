@@ -1,8 +1,8 @@
 #pragma once
 // What the ranks' shares of a step add up to: each value summed over the ranks in rank order,
 // so every rank holds the same bits (on one rank, the value itself).
-#include "talus/core/scene.hpp"
 #include "talus/parallel/communicator.hpp"
+#include "talus/scene/scene.hpp"
 #include "talus/solver/energies.hpp"
 
 #include <algorithm>

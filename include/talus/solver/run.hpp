@@ -2,9 +2,9 @@
 // Runs one case end to end: builds the scene, steps the solver, writes run.h5/run.xmf frames,
 // timeseries.csv rows and summary.json, and shows progress. Bad input surfaces as InputError
 // before anything is written; numerical failure ends the run with the earlier frames intact.
-#include "talus/io/case_spec.hpp"
 #include "talus/io/results.hpp"
 #include "talus/parallel/communicator.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <filesystem>
 #include <functional>

@@ -3,8 +3,8 @@
 // material's per-point history, the tractions' loaded points (splitting moves them) and the
 // probes. The rest of a Scene (grid, materials' parameters, conditions) is rebuilt from the
 // case, which a resume checks is the one the run started with.
-#include "talus/core/scene.hpp"
 #include "talus/io/checkpoint_file.hpp"
+#include "talus/scene/scene.hpp"
 
 namespace talus {
 

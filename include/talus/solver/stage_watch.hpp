@@ -9,8 +9,8 @@
 // forever. The stage is at rest once E_motion has stayed at or below `kinetic_energy_ratio`
 // times its largest value in the stage for `duration` seconds of the stage's time.
 #include "talus/core/particles.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/parallel/communicator.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <chrono>
 #include <optional>

@@ -7,8 +7,8 @@
 // where it sits; the stepper turns it into a NumericalError (exit 3).
 #include "talus/core/errors.hpp"
 #include "talus/core/particles.hpp"
-#include "talus/core/scene.hpp"
 #include "talus/grid/active_nodes.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <optional>
 #include <span>

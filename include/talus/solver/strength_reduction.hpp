@@ -9,8 +9,8 @@
 // while the slope is still stiff is reported as undecided (and counted as failed), never as a
 // mechanism. A case may add a crest displacement limit. The search brackets the critical
 // factor and bisects (docs/case-format.md#strength_reduction).
-#include "talus/io/case_spec.hpp"
 #include "talus/solver/run.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <filesystem>
 #include <functional>

@@ -1,7 +1,7 @@
 #pragma once
 // The verification suite: each case runs real scenes through run_case and compares measured
 // quantities with analytical references under a tolerance justified in the case's source.
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <filesystem>
 #include <functional>

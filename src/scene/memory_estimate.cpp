@@ -1,6 +1,6 @@
-#include "talus/core/memory_estimate.hpp"
+#include "talus/scene/memory_estimate.hpp"
 
-#include "talus/core/body_geometry.hpp"
+#include "talus/scene/body_geometry.hpp"
 
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/linalg/linear_solver.hpp"

@@ -6,7 +6,7 @@
 // matrix and its factor. The case reader refuses a case whose estimate exceeds the machine's
 // memory, at the key that drives it (docs/case-format.md, "Memory"). Counts are doubles: a grid of
 // 1e15 cells per axis must not wrap around in an integer.
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <string>
 #include <vector>

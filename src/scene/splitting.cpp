@@ -1,4 +1,4 @@
-#include "talus/core/splitting.hpp"
+#include "talus/scene/splitting.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,9 +6,9 @@
 #include "talus/grid/grid.hpp"
 #include "talus/grid/node_conditions.hpp"
 #include "talus/grid/surface_load.hpp"
-#include "talus/io/case_spec.hpp"
 #include "talus/material/material.hpp"
 #include "talus/parallel/decomposition.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <array>
 #include <cstdint>

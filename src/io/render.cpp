@@ -1,7 +1,7 @@
-// `talus render` (include/talus/post/render.hpp): resolves the frame, field, component, pattern,
+// `talus render` (include/talus/io/render.hpp): resolves the frame, field, component, pattern,
 // mode and (3D) slice or view against run.h5, then hands the resolved datasets to
 // scripts/render.py.
-#include "talus/post/render.hpp"
+#include "talus/io/render.hpp"
 
 #include "talus/core/errors.hpp"
 #include "talus/io/results.hpp"

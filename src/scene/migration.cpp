@@ -1,9 +1,9 @@
-// Points moving between ranks (include/talus/parallel/migration.hpp). A message to one rank:
+// Points moving between ranks (include/talus/scene/migration.hpp). A message to one rank:
 //   header: optional-field mask, then per material the history values per point
 //   per point: every particle array's value (for_each_field order), each material's history
 //              row, its tractions (count, then offset, force, constant) and its probes (count,
 //              then the probes' indices)
-#include "talus/parallel/migration.hpp"
+#include "talus/scene/migration.hpp"
 
 #include "talus/core/parallel.hpp"
 

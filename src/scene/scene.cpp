@@ -1,9 +1,9 @@
-#include "talus/core/scene.hpp"
+#include "talus/scene/scene.hpp"
 
-#include "talus/core/body_geometry.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/core/expression.hpp"
-#include "talus/core/splitting.hpp"
+#include "talus/scene/body_geometry.hpp"
+#include "talus/scene/splitting.hpp"
 
 #include <algorithm>
 #include <cmath>

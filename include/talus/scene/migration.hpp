@@ -3,8 +3,8 @@
 // particle array (Particles::for_each_field), each material's per-point history, the tractions
 // on their faces and the probes that follow them. Each rank keeps its points in ascending
 // global id (the serial run's order), so a rank's sums run in the serial order.
-#include "talus/core/scene.hpp"
 #include "talus/parallel/decomposition.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <functional>
 

@@ -22,7 +22,7 @@
 //     history; restart F^split at I (F0 = F) and count one more generation.
 // Mass, volume and linear momentum are conserved exactly (halving is exact in binary), the
 // first mass moment to round-off, and the kinetic energy exactly (shared velocity).
-#include "talus/core/scene.hpp"
+#include "talus/scene/scene.hpp"
 
 #include <cstdint>
 

@@ -4,7 +4,7 @@
 // overlap. Points are 3-vectors; a 2D case keeps z = 0 in every point and body, so the same
 // tests serve both: a rectangle is a box of zero depth, a disc a sphere cut at z = 0, a polygon
 // a prism from z_min = 0 to z_max = 0.
-#include "talus/io/case_spec.hpp"
+#include "talus/spec/case_spec.hpp"
 
 #include <algorithm>
 #include <vector>
