@@ -195,8 +195,7 @@ public:
   bool pattern_changed() const override { return pattern_generation_ != analysed_generation_; }
   void pattern_analysed() override { analysed_generation_ = pattern_generation_; }
 
-  // --- assembly by shares (ImplicitShareAssembly: the tests'; step() assembles one)
-  // -------------------------------------------------------------------
+  // --- assembly by shares (ImplicitShareAssembly, for the tests; step() is one share) --
   void prepare(double lambda_end, double ramp_end, double dt) override {
     prepare_connectivity(lambda_end, ramp_end, dt);
     scale_by_prescribed_motion();

@@ -21,12 +21,10 @@
 // one share per rank: the step's preparation is the rank's, made whole by halo sums
 // (implicit_step_setup.hpp), the shares are added by a Tpetra Export (ADD) and solved by Belos
 // with MueLu (distributed_linear_solver.hpp), and Newton's vectors hold the owned unknowns.
-#include "talus/linalg/dof_map.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/scene/scene.hpp"
 #include "talus/solver/explicit_solver.hpp"
 #include "talus/solver/newton.hpp"
-#include "talus/solver/particle_share.hpp"
 
 #include <array>
 #include <memory>
