@@ -59,6 +59,12 @@ const Choices<StrengthReductionMode>& strength_reduction_mode_choices() {
   return c;
 }
 
+const Choices<StrengthReductionFlow>& strength_reduction_flow_choices() {
+  static const Choices<StrengthReductionFlow> c{{"as_given", StrengthReductionFlow::AsGiven},
+                                                {"davis", StrengthReductionFlow::Davis}};
+  return c;
+}
+
 const Choices<BodyShape>& body_shape_choices(int dimension) {
   static const Choices<BodyShape> plane{{"rectangle", BodyShape::Rectangle},
                                         {"disc", BodyShape::Disc},

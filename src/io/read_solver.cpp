@@ -238,10 +238,10 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
   return s;
 }
 
-StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSpec& spec) const {
+StrengthReductionSpec Validator::strength_reduction(const Item& it, CaseSpec& spec) const {
   const Map m(*this, it,
               {"lower", "upper", "tolerance", "max_trials", "probe", "min_stiffness",
-               "displacement_limit", "mode", "min_step"});
+               "displacement_limit", "mode", "min_step", "flow_rule"});
   StrengthReductionSpec s;
   s.where = locate(m.self());
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
@@ -289,6 +289,8 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, const CaseSp
     s.displacement_limit = positive(m["displacement_limit"]);
   if (m.has("mode"))
     s.mode = choice(m["mode"], strength_reduction_mode_choices());
+  if (m.has("flow_rule"))
+    spec.strength_flow_rule = choice(m["flow_rule"], strength_reduction_flow_choices());
   if (m.has("min_step")) {
     const Item step = m["min_step"];
     if (s.mode != StrengthReductionMode::Incremental)

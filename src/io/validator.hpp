@@ -457,7 +457,8 @@ private:
   void bodies_apart(const std::vector<Item>& items, const std::vector<BodySpec>& bodies,
                     const GridSpec& grid) const;
   SolverSpec solver(const Item& it, const CaseSpec& spec) const;
-  StrengthReductionSpec strength_reduction(const Item& it, const CaseSpec& spec) const;
+  /// The strength_reduction section; its flow_rule goes to spec.strength_flow_rule.
+  StrengthReductionSpec strength_reduction(const Item& it, CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
   static std::vector<std::string> solver_keys();
   BodySpec::Placement placement(const Item& it) const;

@@ -106,7 +106,8 @@ constexpr double kSliver = 1e-9;
 template <int Dim> void set_strength(Scene<Dim>& scene, const CaseSpec& case_spec, double factor) {
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
     if (auto* plastic = dynamic_cast<PlasticMaterial*>(scene.materials[m].get()))
-      plastic->replace_model(make_plastic_model(reduce_strength(case_spec.materials[m], factor)));
+      plastic->replace_model(make_plastic_model(
+          reduce_strength(case_spec.materials[m], factor, case_spec.strength_flow_rule)));
 }
 
 /// The strength of the frictional materials during a stage: F moving from the factor the stage

@@ -110,6 +110,7 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
   j["message"] = r.fos.message;
   j["upper_undecided"] = r.fos.upper_undecided;
   j["min_stiffness"] = spec.strength_reduction->min_stiffness;
+  j["flow_rule"] = spec.strength_flow_rule == StrengthReductionFlow::Davis ? "davis" : "as_given";
   j["trials"] = r.fos.trials.size();
   nlohmann::json ends = nlohmann::json::array();
   for (const StrengthTrial& t : r.fos.trials)
@@ -149,9 +150,19 @@ FactorOfSafety& bisect(const StrengthReductionSpec& settings, FactorOfSafety& fo
   return fos;
 }
 
+/// Davis's associated equivalent of (c, phi) with dilation psi (degrees), in place.
+void davis_strength(double& cohesion, double& friction_angle, double dilation_angle) {
+  const double to_rad = std::numbers::pi / 180.0;
+  const double phi = friction_angle * to_rad, psi = dilation_angle * to_rad;
+  const double beta = std::cos(psi) * std::cos(phi) / (1.0 - std::sin(psi) * std::sin(phi));
+  cohesion *= beta;
+  friction_angle = std::atan(beta * std::tan(phi)) / to_rad;
+}
+
 } // namespace
 
-MaterialSpec reduce_strength(const MaterialSpec& material, double factor) {
+MaterialSpec reduce_strength(const MaterialSpec& material, double factor,
+                             StrengthReductionFlow flow) {
   MaterialSpec m = material;
   if (m.model != MaterialModel::Tresca && m.model != MaterialModel::MohrCoulomb &&
       m.model != MaterialModel::DruckerPrager)
@@ -165,13 +176,22 @@ MaterialSpec reduce_strength(const MaterialSpec& material, double factor) {
   // psi may not exceed phi at any point of the softening either.
   m.dilation_angle = std::min(
       {m.dilation_angle, m.friction_angle, m.residual ? m.residual->friction_angle : 90.0});
+  if (flow == StrengthReductionFlow::Davis && m.model != MaterialModel::Tresca) {
+    const double psi = m.dilation_angle;
+    davis_strength(m.cohesion, m.friction_angle, psi);
+    m.dilation_angle = m.friction_angle;
+    if (m.residual) {
+      davis_strength(m.residual->cohesion, m.residual->friction_angle, psi);
+      m.dilation_angle = std::min(m.dilation_angle, m.residual->friction_angle);
+    }
+  }
   return m;
 }
 
 CaseSpec reduce_strength(const CaseSpec& spec, double factor) {
   CaseSpec reduced = spec;
   for (MaterialSpec& m : reduced.materials)
-    m = reduce_strength(m, factor);
+    m = reduce_strength(m, factor, spec.strength_flow_rule);
   return reduced;
 }
 

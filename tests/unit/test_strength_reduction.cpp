@@ -195,6 +195,40 @@ TEST(StrengthReduction, DividesCohesionAndTanPhiAndCapsDilation) {
   EXPECT_DOUBLE_EQ(reduced.materials[1].youngs_modulus, spec.materials[1].youngs_modulus);
 }
 
+// Davis's associated equivalent (flow_rule: davis) of the reduced strength: with psi = 0,
+// beta = cos(phi_F), so tan(phi*) = sin(phi_F) and c* = c_F cos(phi_F) (Davis 1968); psi* =
+// phi*; an associated material (psi = phi_F) is its own equivalent; the residual strength
+// follows with the same psi.
+TEST(StrengthReduction, DavisFlowRuleGivesTheAssociatedEquivalent) {
+  const double degree = std::numbers::pi / 180.0;
+  const double F = 1.5;
+  const CaseSpec given =
+      read_case_text(with(with(kSlope, "probe: crest}", "probe: crest, flow_rule: davis}"),
+                          "dilation_angle: 5", "dilation_angle: 0"),
+                     "case.yaml");
+  ASSERT_EQ(given.strength_flow_rule, StrengthReductionFlow::Davis);
+  const MaterialSpec soil = reduce_strength(given, F).materials[0];
+  const double phi_F = std::atan(std::tan(20 * degree) / F);
+  EXPECT_NEAR(std::tan(soil.friction_angle * degree), std::sin(phi_F), 1e-14);
+  EXPECT_NEAR(soil.cohesion, 1.0e4 / F * std::cos(phi_F), 1e-9);
+  const double phi_res_F = std::atan(std::tan(15 * degree) / F);
+  EXPECT_NEAR(std::tan(soil.residual->friction_angle * degree), std::sin(phi_res_F), 1e-14);
+  EXPECT_NEAR(soil.residual->cohesion, 5.0e3 / F * std::cos(phi_res_F), 1e-9);
+  EXPECT_DOUBLE_EQ(soil.dilation_angle, soil.residual->friction_angle); // psi* <= phi* throughout
+
+  MaterialSpec dilating = given.materials[0];
+  dilating.residual.reset();
+  dilating.dilation_angle = 20;
+  const MaterialSpec associated = reduce_strength(dilating, F, StrengthReductionFlow::Davis);
+  EXPECT_NEAR(associated.friction_angle, phi_F / degree, 1e-12);
+  EXPECT_NEAR(associated.cohesion, 1.0e4 / F, 1e-9);
+  // The default keeps the case's flow rule.
+  EXPECT_EQ(read_case_text(kSlope, "case.yaml").strength_flow_rule, StrengthReductionFlow::AsGiven);
+  EXPECT_NE(error_of(with(kSlope, "probe: crest}", "probe: crest, flow_rule: associated}"))
+                .find("unknown value 'associated' (allowed: as_given, davis)"),
+            std::string::npos);
+}
+
 TEST(StrengthReduction, BisectionBracketsTheCriticalFactor) {
   StrengthReductionSpec settings;
   settings.lower = 1.0;

@@ -18,6 +18,7 @@ const Choices<ShapeFunction>& shape_function_choices();   ///< solver.shape
 const Choices<UpdateScheme>& update_scheme_choices();     ///< solver.scheme (explicit)
 const Choices<TransferScheme>& transfer_scheme_choices(); ///< solver.transfer
 const Choices<StrengthReductionMode>& strength_reduction_mode_choices(); ///< its `mode`
+const Choices<StrengthReductionFlow>& strength_reduction_flow_choices(); ///< its `flow_rule`
 /// bodies[i].shape of a 2D case (rectangle, disc, polygon) or a 3D one (box, sphere, cylinder,
 /// prism).
 const Choices<BodyShape>& body_shape_choices(int dimension);

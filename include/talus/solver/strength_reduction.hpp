@@ -21,13 +21,18 @@
 
 namespace talus {
 
-/// The case with every tresca, mohr_coulomb and drucker_prager material weakened by `factor`:
+/// The case with every tresca, mohr_coulomb and drucker_prager material weakened by `factor`
+/// (with the case's strength_flow_rule):
 /// c / F, phi_F = atan(tan(phi) / F), the residual strength likewise; the dilation angle, a
 /// flow parameter and not a strength, is kept unless it exceeds the reduced (peak or residual)
-/// phi, where it is capped (the models require psi <= phi).
+/// phi, where it is capped (the models require psi <= phi). With StrengthReductionFlow::Davis
+/// a non-associated material then becomes Davis's associated one: c* = beta c_F,
+/// tan(phi*) = beta tan(phi_F), psi* = phi*, beta = cos(psi) cos(phi_F) / (1 - sin(psi)
+/// sin(phi_F)), its residual strength likewise.
 CaseSpec reduce_strength(const CaseSpec& spec, double factor);
 /// One material weakened the same way (unchanged unless tresca, mohr_coulomb, drucker_prager).
-MaterialSpec reduce_strength(const MaterialSpec& material, double factor);
+MaterialSpec reduce_strength(const MaterialSpec& material, double factor,
+                             StrengthReductionFlow flow);
 
 /// What ended a trial (fos.csv's `criterion`).
 enum class TrialEnd {

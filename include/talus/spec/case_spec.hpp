@@ -32,6 +32,10 @@ enum class TransferScheme { Flip, Apic };
 /// How `talus fos` searches: independent trials from scratch, bisected, or one run that loads
 /// the case and then lowers the strength step by step from the loaded state.
 enum class StrengthReductionMode { Trials, Incremental };
+/// Which flow rule the reduced materials of a strength reduction keep: the case's dilation
+/// angle, or Davis's (1968) associated equivalent of the reduced strength (procedure B of
+/// Tschuchnigg, Schweiger & Sloan 2015), for psi < phi.
+enum class StrengthReductionFlow { AsGiven, Davis };
 enum class MaterialModel {
   LinearElastic,
   NeoHookean,
@@ -363,6 +367,9 @@ struct CaseSpec {
   std::vector<ProbeSpec> probes;
   SolverSpec solver;
   std::optional<StrengthReductionSpec> strength_reduction; ///< `talus fos` only
+  /// How every strength factor weakens the materials (strength_reduction.flow_rule); kept by
+  /// the incremental search's staged case, which has no strength_reduction section.
+  StrengthReductionFlow strength_flow_rule = StrengthReductionFlow::AsGiven;
   /// Staged analysis; empty: one stage of `analysis` over `time`. When given, `analysis` and
   /// `time` above are the first stage's.
   std::vector<StageSpec> stages;
