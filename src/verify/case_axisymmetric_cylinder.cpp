@@ -6,9 +6,10 @@
 // sigma_zz = t / (1 - nu t / E)^2, sigma_rr = sigma_tt = 0, and the hoop stretch F33 = r / R.
 // The linear displacement field is in the GIMP space and the hoop terms integrate it exactly,
 // so everything holds to round-off (measured: sigma_zz 5e-13, sigma_rr and sigma_tt 4e-13 of
-// |t|, u_r 3e-13 of its exact value, F33 - r / R 2e-16). Bounds 1e-10 (10^2-10^3 x: the
-// Newton tolerance 1e-8 of the load scale bounds what a converged run can be off). A solver
-// whose F misses the hoop stretch (F33 = 1) does not even converge here (tried).
+// |t|, u_r 3e-13 of its exact value). Bounds 1e-10 (10^2-10^3 x: the Newton tolerance 1e-8
+// of the load scale bounds what a converged run can be off). A solver whose F misses the hoop
+// stretch (F33 = 1) does not even converge here (tried). F33 - r / R (2e-16) is reported only:
+// the step builds F33 from the same u_r as the position update, so it holds by construction.
 //
 // Uniaxial strain (verification/self_weight_column.yaml run with geometry: axisymmetric): the
 // column under self-weight between rollers is a cylinder on the axis with a roller on its
@@ -81,8 +82,9 @@ std::vector<Check> uniaxial_stress(const VerificationContext& ctx) {
                     "hoop stress; measured 4e-13"),
       at_most_check("uniaxial stress: max |u_r - exact| / (nu |t| / E)", ur / u_scale, 1e-10,
                     "u_r = -nu t / E r; measured 3e-13"),
-      at_most_check("uniaxial stress: max |F33 - r / R|", hoop, 1e-12,
-                    "hoop stretch; measured 2e-16"),
+      report_only("uniaxial stress: max |F33 - r / R|", hoop,
+                  "hoop stretch, for the record: F33 and r follow from the same u_r, so it "
+                  "cannot fail; the hoop stress row above checks the hoop term"),
   };
 }
 
