@@ -91,8 +91,9 @@ VerificationCase stability_recovery() {
               reference_dir, ctx.threads);
     checks.push_back(relative_check("material failure: top row height",
                                     top_row_height(ResultsReader(compression_dir / "run.h5")),
-                                    top_row_height(ResultsReader(reference_dir / "run.h5")), 1e-6,
-                                    "against a run started with half steps"));
+                                    top_row_height(ResultsReader(reference_dir / "run.h5")), 1e-12,
+                                    "against a run started with half steps: after the cut-back "
+                                    "the steps are the same, so round-off (measured: bitwise)"));
     return checks;
   };
   return vc;

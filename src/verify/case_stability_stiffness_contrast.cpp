@@ -9,15 +9,17 @@
 //    either do the same or stop with exit 3 and the residual they reached: their reported
 //    accuracy is what they achieved, never a silent wrong answer. (Measured: Eigen CG
 //    stagnates at a relative residual of 1.4e-8 against its 1e-10 tolerance.)
-//  * All backends that converge agree with CHOLMOD on the settlement of the top row to 1e-6.
+//  * All backends that converge agree with CHOLMOD on the settlement of the top row to 1e-8
+//    (measured 3.1e-9 UMFPACK, 2.2e-9 KLU: the Newton tolerance over the condition number).
 //  * Accuracy: one velocity field cannot carry the strain jump at the interface, so the soft
 //    points whose GIMP stencil reaches the stiff ones' nodes (about two cells below the
 //    interface) are held nearly rigid: the settlement of the top row falls short of the 1D
 //    solution rho g (0.375 / M_soft + 0.125 / M_stiff) by about that layer's share (measured
-//    22 % at 16 cells), and the stiff points near the interface take the soft layer's strain
-//    times E_stiff, so their stress is far off (sigma_yy L2 error reported). Both are a band of
-//    fixed width in cells, so the settlement error must fall at first order under refinement:
-//    at 32 cells at most 0.6 of the error at 16 (first order: 0.5).
+//    3.7 % at 16 cells, 2.0 % at 32), and the stiff points near the interface take the soft layer's
+//    strain times E_stiff, so their stress is far off (sigma_yy L2 error reported). Both are a band
+//    of fixed width in cells, so the settlement error must fall at first order under refinement,
+//    keeping its sign: the signed ratio of the errors at 32 and 16 cells in [0.4, 0.65] (first
+//    order 0.5, measured 0.552; second order or a sign change would fall below).
 #include "cases.hpp"
 
 #include "talus/core/errors.hpp"
@@ -132,13 +134,14 @@ VerificationCase stability_stiffness_contrast() {
                     spec.materials[0].youngs_modulus, spec.materials[1].youngs_modulus);
         checks.push_back(report_only("cholmod, 32 cells: settlement error",
                                      f.settlement / f.exact - 1.0, "against the 1D solution"));
-        checks.push_back(at_most_check("settlement error ratio 32 / 16 cells",
-                                       std::abs(f.settlement / f.exact - 1.0) /
-                                           std::abs(c.settlement / c.exact - 1.0),
-                                       0.6, "interface band of fixed width in cells: first order"));
+        checks.push_back(
+            within_check("settlement error ratio 32 / 16 cells (signed)",
+                         (f.settlement / f.exact - 1.0) / (c.settlement / c.exact - 1.0), 0.4, 0.65,
+                         "interface band of fixed width in cells: first order"));
       } else
         checks.push_back(relative_check(backend + ": settlement vs cholmod", c.settlement,
-                                        reference, 1e-6, "the same discrete problem"));
+                                        reference, 1e-8,
+                                        "the same discrete problem; measured 2e-9 to 3e-9"));
     }
     return checks;
   };
