@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -42,8 +43,10 @@ double axisymmetric_difference(const VerificationContext& ctx, const std::string
   const auto axi_dir = ctx.out_dir / fmt::format("axisymmetric_{}_cells{}", shape, n);
   run_quiet(read_case_file(ctx.case_file.string(), overrides), axi_dir, ctx.threads);
   const auto a = final_stress(axi_dir), b = final_stress(plane_dir);
+  if (a.size() != b.size()) // not the same points: nothing to compare, so the row must fail
+    return std::numeric_limits<double>::infinity();
   double worst = 0;
-  for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+  for (std::size_t k = 0; k < a.size(); ++k)
     worst = std::max(worst, std::abs(a[k] - b[k]));
   return worst /
          (references::kColumnDensity * references::kColumnGravity * references::kColumnHeight);
@@ -55,12 +58,13 @@ double axisymmetric_difference(const VerificationContext& ctx, const std::string
 /// lateral and hoop terms of a laterally uniform state exactly with 2 points per cell (their
 /// weights are piecewise linear across the points), so the discrete solutions agree to the
 /// Newton tolerance: 3D measured 1.2e-11, 5.7e-11, 1.3e-10 of the error, axisymmetric stress
-/// 7.6e-11 and 3.7e-15 of rho g H; bound 1e-9. The splines' piecewise-quadratic terms are not
-/// integrated exactly by the points: a laterally uniform stress leaves lateral nodal forces,
-/// and 3D differs from 2D by 9.4e-6 and 1.8e-4 of the error (reported). In axisymmetry the
-/// same imbalance next to the axis, where the hoop strain is u_r / r, moved the first column's
-/// stress by 1.7 % of rho g H at H/16 and 1.9 % at H/32 (cubic 1.5 %, 1.5 %): an error that
-/// refinement does not remove, so the reader refuses the splines in axisymmetry.
+/// 7.6e-11 and 3.7e-15 of rho g H; bounds 5e-10 and 3e-10 (4x the largest). The splines'
+/// piecewise-quadratic terms are not integrated exactly by the points: a laterally uniform stress
+/// leaves lateral nodal forces, and 3D differs from 2D by 9.4e-6 and 1.8e-4 of the error
+/// (reported). In axisymmetry the same imbalance next to the axis, where the hoop strain is u_r /
+/// r, moved the first column's stress by 1.7 % of rho g H at H/16 and 1.9 % at H/32 (cubic 1.5
+/// %, 1.5 %): an error that refinement does not remove, so the reader refuses the splines in
+/// axisymmetry.
 std::vector<Check> other_geometries(const VerificationContext& ctx,
                                     const std::vector<std::string>& shapes) {
   constexpr double kRatio = 4.0;
@@ -89,13 +93,16 @@ std::vector<Check> other_geometries(const VerificationContext& ctx,
     const std::string q3 = fmt::format("{}: 3D raw L2 against 2D's, H/16", shape);
     const double d3 = std::abs(error_3d - plane) / plane;
     checks.push_back(spline ? report_only(q3, d3, "lateral quadrature of the splines")
-                            : at_most_check(q3, d3, 1e-9, "the same discrete 1D problem"));
+                            : at_most_check(q3, d3, 5e-10,
+                                            "the same discrete 1D problem to Newton's "
+                                            "tolerance; measured 1.2e-11 to 1.3e-10 (cpdi)"));
 
     if (shape == "cpdi" || spline)
       continue; // refused in axisymmetry
     checks.push_back(at_most_check(
         fmt::format("{}: axisymmetric stress against plane strain / (rho g H), H/16", shape),
-        axisymmetric_difference(ctx, shape, kCells, kRatio), 1e-9, "the same discrete 1D problem"));
+        axisymmetric_difference(ctx, shape, kCells, kRatio), 3e-10,
+        "the same discrete 1D problem to Newton's tolerance; measured 4e-15 to 7.6e-11 (gimp)"));
   }
   return checks;
 }
