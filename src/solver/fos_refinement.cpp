@@ -2,6 +2,7 @@
 
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
+#include "talus/io/case_vocabulary.hpp"
 #include "talus/post/python_script.hpp"
 #include "talus/solver/run.hpp"
 
@@ -71,8 +72,7 @@ void write_outputs(const FosRefinement& r, const CaseSpec& spec, const fs::path&
          "newton_iterations,wall_seconds,cpu_seconds\n";
   nlohmann::json j;
   j["case"] = spec.name;
-  j["mode"] = spec.strength_reduction->mode == StrengthReductionMode::Incremental ? "incremental"
-                                                                                  : "trials";
+  j["mode"] = choice_word(strength_reduction_mode_choices(), spec.strength_reduction->mode);
   j["levels"] = nlohmann::json::array();
   for (std::size_t k = 0; k < r.levels.size(); ++k) {
     const FosLevel& level = r.levels[k];

@@ -1,6 +1,7 @@
 #include "talus/solver/strength_reduction.hpp"
 
 #include "talus/core/errors.hpp"
+#include "talus/io/case_vocabulary.hpp"
 #include "talus/io/checkpoint_file.hpp"
 #include "talus/io/csv.hpp"
 #include "talus/post/python_script.hpp"
@@ -110,7 +111,7 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
   j["message"] = r.fos.message;
   j["upper_undecided"] = r.fos.upper_undecided;
   j["min_stiffness"] = spec.strength_reduction->min_stiffness;
-  j["flow_rule"] = spec.strength_flow_rule == StrengthReductionFlow::Davis ? "davis" : "as_given";
+  j["flow_rule"] = choice_word(strength_reduction_flow_choices(), spec.strength_flow_rule);
   j["trials"] = r.fos.trials.size();
   nlohmann::json ends = nlohmann::json::array();
   for (const StrengthTrial& t : r.fos.trials)
@@ -390,14 +391,13 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   on_root(ranks, [&] {
     write_fos_csv(result.out_dir / "fos.csv", result.fos);
     write_fos_json(result.out_dir / "fos.json", spec, result);
-    run_python_script("plot_fos.py",
-                      {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(),
-                       spec.name, fmt::format("{:.17g}", result.fos.lower),
-                       fmt::format("{:.17g}", result.fos.upper), result.fos.bracketed ? "1" : "0",
-                       fmt::format("{:g}", spec.strength_reduction->min_stiffness),
-                       spec.strength_reduction->mode == StrengthReductionMode::Incremental
-                           ? "incremental"
-                           : "trials"});
+    run_python_script(
+        "plot_fos.py",
+        {(result.out_dir / "fos.csv").string(), (result.out_dir / "fos.png").string(), spec.name,
+         fmt::format("{:.17g}", result.fos.lower), fmt::format("{:.17g}", result.fos.upper),
+         result.fos.bracketed ? "1" : "0",
+         fmt::format("{:g}", spec.strength_reduction->min_stiffness),
+         choice_word(strength_reduction_mode_choices(), spec.strength_reduction->mode)});
   });
   return result;
 }

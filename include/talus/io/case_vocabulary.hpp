@@ -3,6 +3,7 @@
 // against these tables and `talus info` prints them, so the two cannot drift apart.
 #include "talus/spec/case_spec.hpp"
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,14 @@ template <class E> std::vector<std::string> choice_names(const Choices<E>& choic
   for (const auto& [word, value] : choices)
     names.push_back(word);
   return names;
+}
+
+/// The word of `value` in a table (as the case file writes it; fos.json echoes it back).
+template <class E> const std::string& choice_word(const Choices<E>& choices, E value) {
+  for (const auto& [word, v] : choices)
+    if (v == value)
+      return word;
+  throw std::logic_error("choice_word: a value missing from its table");
 }
 
 /// The material model words of the elastic (plastic = false) or elasto-plastic models.
