@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Plot a footing verification: footing pressure against settlement, one or more curves.
 
-    /usr/bin/python3 scripts/plot_footing.py OUT.png "TITLE" "REFERENCE" CSV LABEL [CSV LABEL ...]
+    /usr/bin/python3 scripts/plot_footing.py [--band LO HI] OUT.png "TITLE" "REFERENCE" CSV LABEL
+                                             [CSV LABEL ...]
 
 Each CSV (written by src/verify/footing_curve.cpp) has columns settlement_m, settlement_over_B,
 pressure_Pa, pressure_over_reference. The pressure is drawn normalised by its curve's limit
-pressure (REFERENCE names it), with the 3 % band the verifications allow around it.
+pressure (REFERENCE names it), with the band the verification accepts for its peak: 3 % either
+side unless --band gives it (as fractions of the limit pressure).
 """
 
 import csv
@@ -27,18 +29,25 @@ def read_curve(path):
 
 
 def main():
-    if len(sys.argv) < 6 or len(sys.argv) % 2 != 0:
-        sys.exit('usage: plot_footing.py OUT.png "TITLE" "REFERENCE" CSV LABEL [CSV LABEL ...]')
-    out, title, reference = sys.argv[1:4]
+    args = sys.argv[1:]
+    band, band_label = (0.97, 1.03), "±3 % of the limit pressure"
+    if args[:1] == ["--band"] and len(args) >= 3:
+        band = (float(args[1]), float(args[2]))
+        band_label = f"accepted peak: {band[0]:g} to {band[1]:g}"
+        args = args[3:]
+    if len(args) < 5 or len(args) % 2 != 1:
+        sys.exit('usage: plot_footing.py [--band LO HI] OUT.png "TITLE" "REFERENCE" CSV LABEL '
+                 '[CSV LABEL ...]')
+    out, title, reference = args[0:3]
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.axhspan(0.97, 1.03, color="0.9", label="±3 % of the limit pressure")
+    ax.axhspan(band[0], band[1], color="0.9", label=band_label)
     ax.axhline(1.0, color="black", linewidth=1, label=reference)
     colours = ["tab:blue", "tab:orange", "tab:green", "tab:purple"]
-    for k in range(4, len(sys.argv), 2):
-        settlement, pressure = read_curve(sys.argv[k])
-        colour = colours[(k // 2 - 2) % len(colours)]
+    for k in range(3, len(args), 2):
+        settlement, pressure = read_curve(args[k])
+        colour = colours[(k // 2 - 1) % len(colours)]
         ax.plot(settlement, pressure, "o-", color=colour, markersize=3,
-                label=f"Talus, {sys.argv[k + 1]}")
+                label=f"Talus, {args[k + 1]}")
         peak = max(range(len(pressure)), key=pressure.__getitem__)
         ax.plot(settlement[peak], pressure[peak], "s", color="tab:red")
         ax.annotate(f"{pressure[peak]:.4f}", (settlement[peak], pressure[peak]),

@@ -29,6 +29,7 @@ VerificationCase single_element();
 VerificationCase single_element_3d();
 VerificationCase grashof();
 VerificationCase strip_footing();
+VerificationCase strip_footing_frictional();
 VerificationCase axisymmetric_cylinder();
 VerificationCase lame_cylinder();
 VerificationCase breathing_cylinder();

@@ -42,6 +42,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::column_large_compression(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),
+                                                      verify_cases::strip_footing_frictional(),
                                                       verify_cases::axisymmetric_cylinder(),
                                                       verify_cases::lame_cylinder(),
                                                       verify_cases::breathing_cylinder(),
