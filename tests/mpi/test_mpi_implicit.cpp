@@ -128,14 +128,17 @@ TEST_F(MpiImplicit, Cantilever3dEqualsTheSerialRun) {
 // The strip footing (Tresca, F-bar, a prescribed footing displacement): the F-bar cells never
 // split between ranks, the prescribed motion sets Newton's force scale on every rank, and the
 // footing's reaction is the sum of the ranks' shares. Shortened to a quarter of the case's
-// settlement. Measured 4.0e-10 (a velocity; displacements 1.7e-10 of the largest); 2e-9 allows
-// 5x. Newton's path is compared by its load steps only: a Tresca return decides yield by a
-// comparison, so the iterates of any two linear solvers part after the first iteration (per
-// step, serial UMFPACK 22 9 7 7 8 7 7 7 7 9, serial GMRES 19 9 7 7 8 7 7 7 7 8, two ranks
-// 19 9 7 8 8 7 8 6 7 8) and meet at the solution.
+// settlement. Measured 4.0e-10 (a velocity; displacements 1.7e-10 of the largest) on the CI
+// machine and 2.3e-9 (a stress) on another CPU, whose sparse kernels round differently: both
+// runs stop at Newton's tolerance, 1e-8 of the force scale, so 1e-8 is the bound the solves
+// guarantee (a rank's share lost or counted twice moves the stress by percents). Newton's path is
+// compared by its load steps only: a Tresca return decides yield by a comparison, so the iterates
+// of any two linear solvers part after the first iteration (per step, serial UMFPACK 22 9 7 7 8 7 7
+// 7 7 9, serial GMRES 19 9 7 7 8 7 7 7 7 8, two ranks 19 9 7 8 8 7 8 6 7 8) and meet at the
+// solution.
 TEST_F(MpiImplicit, StripFootingEqualsTheSerialRun) {
   run_both(kCases / "strip_footing.yaml", {"time.end_time=0.25"}, 2);
-  expect_agree_with_displacements(2e-9);
+  expect_agree_with_displacements(1e-8);
   expect_same_newton_path(-1);
 }
 
