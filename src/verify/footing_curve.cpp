@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <fmt/format.h>
 #include <fstream>
+#include <stdexcept>
 
 namespace talus::verify_cases {
 
@@ -15,6 +16,8 @@ std::size_t FootingCurve::peak() const {
 FootingCurve load_settlement(const std::filesystem::path& dir, double end_time, double settlement,
                              double pressure_per_force) {
   const CsvTable series = read_csv(dir / "timeseries.csv");
+  if (series.rows() == 0) // a curve with nothing measured must fail its rows, not pass them
+    throw std::runtime_error(fmt::format("{}: timeseries.csv has no rows", dir.string()));
   const auto& t = series.column("time");
   const auto& step = series.column("step");
   const auto& force = series.column("reaction_footing_y");

@@ -15,7 +15,8 @@ struct FootingCurve {
 };
 
 /// The curve of a run whose prescribed region `footing` settles by `settlement` over
-/// `end_time`; the pressure is pressure_per_force times -reaction_footing_y.
+/// `end_time`; the pressure is pressure_per_force times -reaction_footing_y. Throws
+/// std::runtime_error when the run wrote no row (nothing measured).
 FootingCurve load_settlement(const std::filesystem::path& dir, double end_time, double settlement,
                              double pressure_per_force);
 
