@@ -21,6 +21,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import LogFormatterSciNotation  # noqa: E402
 
 LABELS = {"stiffness": "stiffness", "limit_point": "limit point", "displacement": "crest limit",
           "newton_budget": "undecided (Newton)", "numerical": "numerical",
@@ -55,6 +56,8 @@ def main():
                 markersize=4, label=label)
         for r in failed:
             ax.plot(r["factor"], r[key], "x", color="tab:red", markersize=9, mew=2)
+            if ax is bottom:
+                continue  # labelled once, above: near min_stiffness the labels would overlap
             text = LABELS.get(r["criterion"], r["criterion"])
             if not incremental:
                 text += f", {100 * r['load']:.0f} %"
@@ -70,7 +73,12 @@ def main():
     if bracketed:
         top.plot([], [], "s", color="tab:green", alpha=0.4,
                  label=f"FoS = {0.5 * (lower + upper):.3f} [{lower:.3f}, {upper:.3f}]")
-    top.set_yscale("symlog", linthresh=1e-3)
+    # A log scale: the displacements span decades (elastic millimetres against a mechanism's
+    # metres). Intermediate ticks labelled too, or a range within a decade shows no number.
+    if all(r["crest"] > 0 for r in rows):
+        top.set_yscale("log")
+        top.yaxis.set_minor_formatter(LogFormatterSciNotation(labelOnlyBase=False,
+                                                              minor_thresholds=(2, 0.5)))
     top.set_ylabel("crest displacement [m]")
     top.set_title(f"{sys.argv[3]}: strength reduction ({'incremental' if incremental else 'trials'})")
     top.legend(fontsize=8, loc="upper left")
