@@ -11,8 +11,10 @@
 //    squeeze up around the node row that carries the footing). The strip footing at the same
 //    resolution is 1.4 % below Prandtl's value: the error of this mesh is of that size, of
 //    either sign.
-//  * The rough footing carries more than the smooth one: 6.05 / 5.69 = 1.063, within 1 %
-//    (measured 1.0631; each peak alone is allowed 3 %, their ratio is what roughness adds).
+//  * The rough footing carries more than the smooth one: 6.05 / 5.69 = 1.063, within 0.3 %
+//    (measured 1.0631, 0.011 % off; each peak alone is allowed 3 %, their ratio is what
+//    roughness adds). The references' rounding to three digits alone moves the ratio by up to
+//    0.17 %; the mesh's error, of one sign for both footings, mostly cancels.
 //  * Newton iterations per load step to the peak: median at most 8 (measured 6 and 5).
 // Without the hoop terms the same scene is the strip footing's plane-strain problem with a
 // limit of (2 + pi) c, 10 % below the smooth value: the smooth check fails (tried).
@@ -79,8 +81,9 @@ VerificationCase circular_footing() {
     }
     const double ratio =
         rough.curve.pressure[rough.curve.peak()] / smooth.curve.pressure[smooth.curve.peak()];
-    checks.push_back(relative_check("rough / smooth peak pressure", ratio, kRough / kSmooth, 0.01,
-                                    "6.05 / 5.69 = 1.063"));
+    checks.push_back(relative_check("rough / smooth peak pressure", ratio, kRough / kSmooth, 0.003,
+                                    "6.05 / 5.69 = 1.063; the references' three digits allow "
+                                    "0.17 %"));
     run_python_script("plot_footing.py",
                       {(ctx.out_dir / "load_settlement.png").string(),
                        "Rigid circular footing on Tresca soil (axisymmetric)",

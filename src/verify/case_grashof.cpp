@@ -247,10 +247,10 @@ VerificationCase grashof() {
     const std::string at = fmt::format("linear hats, {} cells/depth", kReference);
     checks.push_back(at_most_check("shear (b) grid nodes, " + at,
                                    m.grid.errors(0.5 * kBeamDepth - h).first, 0.05,
-                                   "relative L2, |y| <= D/2 - h"));
+                                   "relative L2, |y| <= D/2 - h; 1.6x the measured 0.030"));
     checks.push_back(at_most_check("bending (b) grid nodes, " + at,
                                    m.grid.errors(0.5 * kBeamDepth - h).second, 0.005,
-                                   "relative L2, |y| <= D/2 - h"));
+                                   "relative L2, |y| <= D/2 - h; 2.5x the measured 0.0020"));
     checks.push_back(report_only("shear (a) raw particles, " + at,
                                  m.raw.errors(0.5 * kBeamDepth + h).first,
                                  "relative L2, full depth"));

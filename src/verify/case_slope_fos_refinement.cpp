@@ -12,10 +12,11 @@
 //    & Detournay 1993), not below the load of Davis's (1968) reduced strength c* = beta c,
 //    tan phi* = beta tan phi, beta = cos psi cos phi / (1 - sin psi sin phi), whose factor is
 //    beta times Bishop's: the psi = 0 study of the 1:1.5 slope is checked in that bracket.
-//  * The formulation: quadratic B-splines without F-bar, 2 x 2 points per cell. The
-//    cell-averaged F-bar lets the factor fall through the collapse load under refinement
-//    (dilatant flow: 1.653, 1.625, 1.596, 1.557 at h = 0.5 ... 0.0625 m on the 1:1.5 slope),
-//    uGIMP without it locks (2.008, 1.838, 1.758, 1.656); docs/case-format.md#strength_reduction.
+//  * The formulation, the scenes' own: quadratic B-splines without F-bar, 2 x 2 points per
+//    cell. The cell-averaged F-bar lets the factor fall through the collapse load under
+//    refinement (dilatant flow: 1.653, 1.625, 1.596, 1.557 at h = 0.5 ... 0.0625 m on the 1:1.5
+//    slope), uGIMP without it locks (2.008, 1.838, 1.758, 1.656);
+//    docs/case-format.md#strength_reduction.
 // Checks, in each mode: every level ends with a bracket whose failing end is a mechanism (no
 // undecided trial bounds it); the successive differences shrink (observed order above 0.5) or
 // lie within the search tolerance; the finest factor within 2 % of Bishop's (psi = 0: between
@@ -40,9 +41,6 @@ namespace talus::verify_cases {
 namespace {
 
 constexpr int kLevels = 3;
-
-/// The formulation of every study (see the top of the file).
-const std::vector<std::string> kFormulation = {"solver.shape=bspline2", "solver.f_bar=false"};
 
 // The defect the psi = 0 rows expose (measured in docs/case-format.md#strength_reduction).
 constexpr const char* kNonAssociatedStall =
@@ -91,15 +89,13 @@ std::optional<double> davis_factor(const CaseSpec& spec, double bishop) {
   return f;
 }
 
-/// The refinement of `spec` in `mode` with the study's formulation and `flow` overrides, into
-/// <out>/<study>_<mode>/.
+/// The refinement of `spec` in `mode` with the `flow` overrides, into <out>/<study>_<mode>/.
 FosRefinement refine(const VerificationContext& ctx, const CaseSpec& spec, const std::string& study,
                      std::vector<std::string> flow, const std::string& mode) {
   FosOptions options;
   options.out_dir = ctx.out_dir / (study + "_" + mode);
   options.force = true;
   options.threads = ctx.threads;
-  flow.insert(flow.end(), kFormulation.begin(), kFormulation.end());
   flow.push_back("strength_reduction.mode=" + mode);
   return refine_factor_of_safety(read_case_text(spec.source_text, spec.source_file, flow), options,
                                  kLevels);

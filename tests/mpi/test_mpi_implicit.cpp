@@ -144,12 +144,12 @@ TEST_F(MpiImplicit, StripFootingEqualsTheSerialRun) {
 
 // Griffiths & Lane's slope by strength reduction on two ranks (at h = 1 m, twice the case's
 // cell, to keep the test short). A trial stands or fails as in the serial search unless its
-// factor lies within the search's tolerance of the factor of safety: there whether Newton
-// converges at the smallest load step depends on the digits each linear solver leaves (UMFPACK
-// serially, GMRES distributed; measured at h = 1: the trial at 1.484 stood serially and failed
-// on two ranks, every other trial alike; at h = 0.5 all eight alike). So the two factors of
-// safety agree within the tolerance, and the trials farther from it agree exactly (at h = 1:
-// F = 1, 2, 1.25, 1.375).
+// factor lies within the search's tolerance of the factor of safety: there the outcome depends
+// on the digits each linear solver leaves (a direct solver serially, Belos distributed; with
+// F-bar at h = 1 the trial at 1.484 stood serially and failed on two ranks). So the two factors
+// of safety agree within the tolerance, and the trials farther from it agree exactly (measured
+// at h = 1 with quadratic B-splines: all eight alike, 1.4766 both, Newton iterations per trial
+// within one).
 TEST_F(MpiImplicit, GriffithsLaneFactorOfSafetyIsTheSerialOne) {
   const std::string case_file = (kCases / "slope_griffiths_lane.yaml").string();
   const std::vector<std::string> args = {"fos",   case_file,          "--threads", "1",
