@@ -11,6 +11,7 @@
 
 #include "talus/io/case_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -134,7 +135,7 @@ VerificationCase column_large_compression() {
               references::compressed_column_errors(ResultsReader(dir / "run.h5"), ratio);
           const std::string at = fmt::format("rho g H/E = {:g}, {}, H/{}", ratio, shape, n);
           // The issue's figure (16 cells, 2 x 2 points per cell) is checked below.
-          if (!(ratio == 4.0 && n == 16 && shape != "gimp"))
+          if (!(ratio == 4.0 && n == 16))
             checks.push_back(report_only("raw L2 sigma_yy, " + at, e.raw));
           checks.push_back(report_only("smoothed L2 sigma_yy, " + at, e.smoothed));
           checks.push_back(report_only("top displacement error, " + at, e.top));
@@ -150,9 +151,10 @@ VerificationCase column_large_compression() {
           if ((shape == "cpgimp" || shape == "cpdi") && ratio >= 0.4)
             // The domains tile the deformed column, so its quadrature stays as good as at
             // small strain: measured cpGIMP 1.57, 1.49 (0.4) and 1.38, 1.44 (4), CPDI 1.51,
-            // 1.49 and 1.43, 1.38.
-            checks.push_back(within_check("raw " + q, raw, 1.0, 2.0,
-                                          "domains that follow the stretch keep the order"));
+            // 1.49 and 1.43, 1.38; the window 0.2 beyond the measured on each side.
+            checks.push_back(within_check("raw " + q, raw, 1.2, 1.8,
+                                          "domains that follow the stretch keep the order; "
+                                          "measured 1.38 to 1.57"));
           else if (ratio == 0.04 && i == 2)
             // Small strain: every shape converges (measured 0.93 to 1.83; theory 1 for the
             // raw stress, which is read from the gradients).
@@ -168,6 +170,9 @@ VerificationCase column_large_compression() {
     // 0.91 %, bspline2 1.35 %, bspline3 0.55 %), and the best at most the issue's 1.5 %.
     const std::map<std::string, double> measured = {
         {"cpgimp", 0.0100}, {"cpdi", 0.0091}, {"bspline2", 0.0135}, {"bspline3", 0.00554}};
+    // The top displacement: uGIMP -0.99 %.
+    const std::map<std::string, double> measured_top = {
+        {"cpgimp", -0.0025}, {"cpdi", 0.0005}, {"bspline2", -0.0041}, {"bspline3", -0.0007}};
     double best = 1.0;
     std::string best_shape;
     for (const auto& [shape, value] : measured) {
@@ -179,15 +184,25 @@ VerificationCase column_large_compression() {
         best = e;
         best_shape = shape;
       }
-      // The top displacement: uGIMP -0.99 %; the new shapes measured -0.25 (cpgimp), +0.05
-      // (cpdi), -0.41, -0.07 % (splines).
-      checks.push_back(within_check(
-          fmt::format("top displacement error, rho g H/E = 4, {}, H/16", shape),
-          errors[{4.0, shape, 16}].top, -0.01, 0.01, "2.5 x the largest measured, 0.41 %"));
+      // Each shape's top displacement within 2.5x its measured magnitude (at least 0.15 %, the
+      // scale of cpdi's +0.05 % and bspline3's -0.07 %), of either sign.
+      const double top = measured_top.at(shape);
+      const double band = std::max(2.5 * std::abs(top), 0.0015);
+      checks.push_back(
+          within_check(fmt::format("top displacement error, rho g H/E = 4, {}, H/16", shape),
+                       errors[{4.0, shape, 16}].top, -band, band,
+                       fmt::format("2.5x the measured {:+.2f} %; uGIMP -0.99 %", 100 * top)));
     }
+    // The default shape against the target the others meet: a defect, visible as one.
+    checks.push_back(known_failure(
+        at_most_check("raw L2 sigma_yy, rho g H/E = 4, gimp, H/16", errors[{4.0, "gimp", 16}].raw,
+                      0.015, "issue 21's target, which every other shape meets"),
+        "uGIMP's fixed domains overlap where the column is squeezed (measured 10.5 %); use "
+        "cpgimp, cpdi or a B-spline for large compression"));
+    // Implied by the rows above (bspline3's upper bound, 1.39 %, is below it), so reported.
     checks.push_back(
-        at_most_check(fmt::format("best raw L2 sigma_yy at rho g H/E = 4, H/16 ({})", best_shape),
-                      best, 0.015, "issue 21's target (AMPLE: 1.1 %)"));
+        report_only(fmt::format("best raw L2 sigma_yy at rho g H/E = 4, H/16 ({})", best_shape),
+                    best, "issue 21's target 1.5 % (AMPLE: 1.1 %)"));
     for (Check& c : other_geometries(ctx, shapes))
       checks.push_back(std::move(c));
     // cpGIMP's domain is set at the start of a load step and held through it, so the step's

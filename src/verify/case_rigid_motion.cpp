@@ -32,7 +32,7 @@
 //    cos theta) = 2 E of a non-objective update; and after the half turn every point where the
 //    rotation by pi about the axis takes it, within 3e-4 R (the sphere's
 //    elastic centrifugal expansion is rho omega^2 R^2 / E = 8e-5 of R; measured 8.9e-5 R). With
-//    FLIP transfers the stress reaches 268x the static level and the first check fails (tried).
+//    FLIP transfers the stress reaches 268x the static level: a known failure, in the full tier.
 #include "cases.hpp"
 
 #include <cmath>
@@ -184,13 +184,24 @@ VerificationCase rigid_rotation_3d() {
       const Vec3 at(x1[3 * p] - c.x(), x1[3 * p + 1] - c.y(), x1[3 * p + 2] - c.z());
       worst = std::max(worst, (at - turned).norm());
     }
-    return std::vector<Check>{
+    std::vector<Check> checks{
         within_check("APIC: max |sigma| / static centrifugal", stress / centrifugal, 0.5, 4.0,
                      "holds itself together, overshoot of a sudden release; measured 1.20"),
         report_only("APIC: max |sigma| / E", stress / m.youngs_modulus,
                     "a non-objective update would reach ~2"),
         at_most_check("position after half a turn: max |x - R_pi x0| / R", worst / b.radius, 3e-4,
                       "elastic expansion 8e-5 R; measured 8.9e-5")};
+    if (ctx.tier == "full") { // FLIP's defect, visible; the fast tier spares the second run
+      run_quiet(load_verification_case(ctx, {"solver.transfer=flip"}), ctx.out_dir / "flip",
+                ctx.threads);
+      const double flip = max_stress_over_frames(ResultsReader(ctx.out_dir / "flip" / "run.h5"));
+      checks.push_back(known_failure(
+          within_check("FLIP: max |sigma| / static centrifugal", flip / centrifugal, 0.5, 4.0,
+                       "the bound APIC meets"),
+          "FLIP projects a spin inexactly at the body's edge, which strains it (measured 268x "
+          "the static level); use APIC for spinning bodies"));
+    }
+    return checks;
   };
   return vc;
 }

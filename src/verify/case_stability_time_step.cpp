@@ -19,9 +19,10 @@
 //  * Implicit Newmark (beta = 1/4, gamma = 1/2) at 1x to 100x the explicit limit h / c over ten
 //    periods: the trapezoidal rule conserves the energy of the linear grid system exactly, so
 //    the energy may never grow: E(end) <= E(0) (1 + 1e-9). The energy is evaluated on the
-//    particles, whose velocity update from the grid (FLIP) dissipates a little (measured 0.13 %
-//    at 1x to 2.1 % at 30x over ten periods: bounded at 5 %, 2.4x) and whose representation of
-//    the grid energy fluctuates within a step (measured 1.8e-4 at 1x: bounded at 5e-4, 2.8x).
+//    particles, whose velocity update from the grid (FLIP) dissipates a little (measured 0.13 %,
+//    1.06 %, 2.08 % and 1.52 % at 1x, 10x, 30x and 100x over ten periods: each bounded at 2.5x
+//    its own) and whose representation of the grid energy fluctuates within a step (measured
+//    1.8e-4 at 1x: bounded at 5e-4, 2.8x).
 //    Period elongation (omega dt)^2 / 12 makes the largest steps slow, not unstable.
 #include "cases.hpp"
 #include "histories.hpp"
@@ -33,6 +34,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <map>
 #include <numbers>
 
 namespace talus::verify_cases {
@@ -160,7 +162,10 @@ VerificationCase stability_implicit_dt() {
     HistoryPlot plot;
     const double h = kBarLength / kCells;
     const double c = std::sqrt(kBarYoung / kBarDensity);
-    for (const double factor : {1.0, 10.0, 30.0, 100.0}) {
+    // FLIP's measured loss over ten periods at each step size (see the top of the file).
+    const std::map<double, double> measured_loss = {
+        {1.0, 1.25e-3}, {10.0, 1.06e-2}, {30.0, 2.08e-2}, {100.0, 1.52e-2}};
+    for (const auto& [factor, loss] : measured_loss) {
       auto overrides = references::vibrating_bar_overrides(kCells);
       overrides.insert(overrides.end(),
                        {"analysis=implicit_dynamic", "time.end_time=100",
@@ -170,9 +175,10 @@ VerificationCase stability_implicit_dt() {
       const CsvTable series = read_csv(dir / "timeseries.csv");
       const auto& energy = series.column("total_energy");
       const std::string at = fmt::format("dt = {:g} h/c", factor);
-      checks.push_back(within_check(at + ": E(end)/E(0) - 1", energy.back() / energy.front() - 1.0,
-                                    -0.05, 1e-9,
-                                    "trapezoidal rule: no growth; FLIP's loss <= 2.4x measured"));
+      checks.push_back(within_check(
+          at + ": E(end)/E(0) - 1", energy.back() / energy.front() - 1.0, -2.5 * loss, 1e-9,
+          fmt::format("trapezoidal rule: no growth; FLIP's loss <= 2.5x the measured {:.3g}",
+                      loss)));
       checks.push_back(at_most_check(at + ": max E(t)/E(0) - 1", peak_growth(energy), 5e-4,
                                      "transients of the particle energy; 2.8x measured"));
       plot.add_column("E(t) / E(0) - 1", at, series, "total_energy", true);

@@ -5,8 +5,9 @@
 //    and with GIMP (offset 2e-4: the point domains reach 1e-4 h into the next cells, weight
 //    1e-8), both under MUSL (the default). No blow-up: the runs complete, and the peak energy
 //    exceeds that of the same points shifted so that no node is barely touched (linear: offset
-//    -0.4, weight 5e-2; GIMP: the regular lattice) by at most 2e-3 of E(0) either way (3.5x the
-//    measured 5.7e-4 of linear hats; GIMP 1.3e-6): a tiny-mass node that adds energy, or one
+//    -0.4, weight 5e-2; GIMP: the regular lattice) by at most 2e-3 of E(0) either way for
+//    linear hats (3.5x the measured 5.7e-4) and 5e-6 for GIMP (4x the measured 1.3e-6; its
+//    regular run differs by a shift of 1e-4 h only): a tiny-mass node that adds energy, or one
 //    that damps the block, fails. Both runs show the
 //    same per-step oscillation of ~omega dt / 2 from the half-step staggering of kinetic and
 //    strain energy (see stability_explicit_cfl), with slightly different phases (the points sit
@@ -64,11 +65,12 @@ VerificationCase stability_tiny_mass() {
       const char* scheme;
       const char* offset;
       const char* regular_offset; ///< the same points, none barely touching a node
+      double bound;               ///< on the peak energy's difference from the regular run
     };
-    for (const Explicit& e : {Explicit{"linear, musl", "linear", "musl", "-0.49998", "-0.4"},
-                              Explicit{"gimp, musl", "gimp", "musl", "2e-4", "0"},
-                              Explicit{"linear, usl", "linear", "usl", "-0.49998", ""},
-                              Explicit{"linear, usf", "linear", "usf", "-0.49998", ""}}) {
+    for (const Explicit& e : {Explicit{"linear, musl", "linear", "musl", "-0.49998", "-0.4", 2e-3},
+                              Explicit{"gimp, musl", "gimp", "musl", "2e-4", "0", 5e-6},
+                              Explicit{"linear, usl", "linear", "usl", "-0.49998", "", 0},
+                              Explicit{"linear, usf", "linear", "usf", "-0.49998", "", 0}}) {
       const auto dir = ctx.out_dir / fmt::format("explicit_{}_{}", e.shape, e.scheme);
       const CaseSpec spec = load_verification_case(
           ctx, {fmt::format("solver.shape={}", e.shape), fmt::format("solver.scheme={}", e.scheme),
@@ -97,7 +99,7 @@ VerificationCase stability_tiny_mass() {
       const CsvTable regular = read_csv(std::filesystem::path(regular_dir) / "timeseries.csv");
       checks.push_back(
           within_check(fmt::format("explicit {}: peak E/E(0), tiny-mass - regular", e.label),
-                       peak_growth(series) - peak_growth(regular), -2e-3, 2e-3,
+                       peak_growth(series) - peak_growth(regular), -e.bound, e.bound,
                        fmt::format("completed; peak E/E(0) - 1 = {:.4g} against {:.4g}",
                                    peak_growth(series), peak_growth(regular))));
       plot.add_column("explicit block: E(t) / E(0) - 1", e.label, series, "total_energy", true);

@@ -172,6 +172,20 @@ std::vector<std::string> fos_rows(const fs::path& dir) {
   return rows;
 }
 
+/// The timeseries.csv of each trial fos.log lists as finished, with its last write time.
+std::vector<std::pair<fs::path, fs::file_time_type>> finished_trial_files(const fs::path& dir) {
+  std::vector<std::pair<fs::path, fs::file_time_type>> files;
+  std::istringstream in(read_file(dir / "fos.log"));
+  const std::string prefix = "trial F = ";
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) {
+      const std::string factor = line.substr(prefix.size(), line.find(':') - prefix.size());
+      const fs::path file = dir / "trials" / ("F" + factor) / "timeseries.csv";
+      files.emplace_back(file, fs::last_write_time(file));
+    }
+  return files;
+}
+
 // SIGTERM (a cluster's wall-time limit): the run stops after the step in progress with a
 // checkpoint of that state and a last frame; the resumed run drops that extra frame and ends as
 // the uninterrupted run, bitwise.
@@ -236,8 +250,14 @@ TEST_F(Restart, FactorOfSafetySearchResumesKeepingFinishedTrials) {
       }
       ::kill(child.pid(), SIGKILL);
       child.wait();
+      const auto kept = finished_trial_files(dir);
+      if (mode == "trials") {
+        ASSERT_GE(kept.size(), static_cast<std::size_t>(finished));
+      }
       const Outcome r = resume("fos", case_file, sets, dir);
       ASSERT_EQ(r.exit_code, 0) << r.describe();
+      for (const auto& [file, written] : kept) // kept, not run again
+        EXPECT_EQ(fs::last_write_time(file), written) << file;
       EXPECT_EQ(fos_rows(reference), fos_rows(dir));
       const auto a = read_json(reference / "fos.json");
       const auto b = read_json(dir / "fos.json");
