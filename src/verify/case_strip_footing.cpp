@@ -11,9 +11,10 @@
 //    sets in after the limit load).
 //  * Newton iterations per load step up to the peak: the median at most 8 (measured 6: the
 //    consistent tangent converges quadratically, an elastic or inconsistent one needs tens),
-//    the largest at most 30 (measured 22: on the first step the corner singularity yields at
-//    once, plain Newton diverges and is abandoned after 11 iterates, and KINSOL's line search
-//    converges in 11).
+//    and after the first step the largest at most 15 (measured 8). The first step is reported:
+//    the corner singularity yields at once, plain Newton diverges and is abandoned (after 17
+//    iterates, as it goes on while its residual falls at times), and KINSOL's line search
+//    converges in 11 (28 in all).
 // The full tier adds B/h = 8 with and without F-bar: with F-bar within 5 % of Prandtl (measured
 // 2.5 %); without, at least 8 % above it (measured 14.3 %): the volumetric locking F-bar
 // removes, so that the F-bar rows test the remedy and not a scene that never locks.
@@ -62,8 +63,12 @@ VerificationCase strip_footing() {
         newton_iterations_check("Newton iterations per step to the peak, median", its, 0.5, 8.0,
                                 fmt::format("{} load steps; quadratic convergence", its.size())));
     checks.push_back(
-        newton_iterations_check("Newton iterations per step to the peak, maximum", its, 1.0, 30.0,
-                                "first step: plain Newton abandoned after 11, then line search"));
+        newton_iterations_check("Newton iterations per step after the first, to the peak, maximum",
+                                std::vector<int>(its.begin() + (its.empty() ? 0 : 1), its.end()),
+                                1.0, 15.0, "measured 8; an inconsistent tangent needs tens"));
+    if (!its.empty())
+      checks.push_back(report_only("Newton iterations of the first step", its.front(),
+                                   "the corner yields at once: plain Newton, then line search"));
     write_curve_csv(ctx.out_dir / "load_settlement.csv", curve, 2 * kHalfWidth, kPrandtl);
     if (ctx.tier == "full")
       for (const bool f_bar : {true, false}) {
