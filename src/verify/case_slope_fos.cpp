@@ -221,11 +221,11 @@ VerificationCase slope_fos_slab_3d() {
 //    the rise's search resolution (the brackets' combined 1.2 %), the reference's spread over K
 //    in [0, 1] (1.2 %) and Bishop's own offset in plane strain against the finite-element
 //    strength reduction (1.374 against 1.4, 1.8 %).
-// Measured at h = 1 m (17 600 points, 6 700 unknowns, GMRES with MueLu, two threads): walls
-// 1.6062 (bracket [1.5875, 1.6250], 6 trials, 632 Newton iterations, 1118 s), rollers 1.4937
-// ([1.4750, 1.5125], 6 trials, 549 iterations, 1119 s): a rise of 1.075, -1.9 % from 1.0955.
-// (Against the 2D search at h = 0.5 m, 1.4141, the walls' factor rises by 1.136: h = 1 m is
-// coarse in the factors themselves, not in their ratio.)
+// Measured at h = 1 m (17 600 points, 6 700 unknowns, GMRES with MueLu, one thread, the
+// stiffness criterion): walls 1.5688 (bracket [1.5500, 1.5875], 6 trials, 386 Newton
+// iterations, 1365 s of CPU), rollers 1.4563 ([1.4375, 1.4750], 6 trials, 206 iterations,
+// 559 s): a rise of 1.077, -1.7 % from 1.0955 (before the stiffness criterion: 1.6062 over
+// 1.4937, 1.075). h = 1 m is coarse in the factors themselves, not in their ratio.
 VerificationCase slope_3d_end_walls() {
   VerificationCase vc;
   vc.name = "slope_3d_end_walls";
