@@ -3,12 +3,13 @@
 // swapped lines, numbers replaced by extremes (0, -1, 1e308, nan, ...), huge strings, deep
 // nesting, YAML tags and stray YAML syntax, and feeds each mutant (sometimes with --set
 // overrides) to read_case_text and, when it parses and its memory estimate is small, to
-// build_scene. It never runs a simulation.
+// build_scene in the case's dimension (2D, axisymmetric or 3D). It never runs a simulation.
 //
 // A failure is any exception other than InputError (the CLI maps it to exit 1), a crash (signal)
 // or an input that takes longer than the watchdog (default 5 s): the input is saved to
 // <crash-dir>/fuzz-<kind>-<seed>-<n>.yaml and the driver exits 1. Every --cli-every-th mutant also
-// goes through the real binary (`talus check`), whose exit code must lie in 0-3.
+// goes through the real binary (`talus check`), whose exit code must be 0, 2 or 3 (1 is an
+// uncaught error).
 //
 //   talus_fuzz_case_reader --seconds 30 --seed 1 [--talus build/talus] [--crash-dir DIR]
 //   talus_fuzz_case_reader --replay saved.yaml        (one input, as the loop would run it,
@@ -144,7 +145,10 @@ Outcome run_one(const std::string& text, const std::vector<std::string>& overrid
     // so that it tries many inputs.
     if (talus::estimate_memory(spec).total_bytes > kSmallScene)
       return Outcome::Large;
-    const talus::Scene<2> scene = talus::build_scene<2>(spec);
+    if (spec.dimension == 3)
+      talus::build_scene<3>(spec);
+    else
+      talus::build_scene<2>(spec); // plane strain and axisymmetry
     return Outcome::Built;
   } catch (const talus::InputError&) {
     return Outcome::Refused;
@@ -334,7 +338,7 @@ int main(int argc, char** argv) {
       save(cli_file, text);
       const int code = run_cli(o.talus, cli_file, sets, static_cast<int>(o.watchdog) + 5);
       ++cli_runs;
-      if (code < 0 || code > 3) {
+      if (code < 0 || code == talus::kExitOther || code > talus::kExitNumerical) {
         ++failures;
         const std::string file = crash_prefix + std::to_string(inputs) + ".cli.yaml";
         save(file, text);
