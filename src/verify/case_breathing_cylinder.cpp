@@ -15,6 +15,8 @@
 // which is checked against the exact mode's, rho int v_r r dr by Simpson's rule (measured
 // -1.3e-5 at a/32: the points' midpoint rule).
 #include "cases.hpp"
+#include "references.hpp"
+#include "talus/core/errors.hpp"
 #include "talus/io/csv.hpp"
 
 #include <cmath>
@@ -36,17 +38,12 @@ double omega() {
 }
 
 /// The exact mode's radial momentum per radian of a slice `height` thick at t = 0,
-/// rho height int_0^a v_r(r) r dr, by Simpson's rule on 2000 intervals (error ~1e-14).
+/// rho height int_0^a v_r(r) r dr, by Simpson's rule (error ~1e-14).
 double initial_momentum(double height) {
-  constexpr int intervals = 2000;
-  const double step = kRadius / intervals;
-  double sum = 0;
-  for (int i = 0; i <= intervals; ++i) {
-    const double r = i * step;
-    const double weight = (i == 0 || i == intervals) ? 1 : (i % 2 == 1 ? 4 : 2);
-    sum += weight * r * kSpeed * std::cyl_bessel_j(1.0, kRoot / kRadius * r);
-  }
-  return kDensity * height * sum * step / 3;
+  return kDensity * height *
+         references::simpson(
+             [](double r) { return r * kSpeed * std::cyl_bessel_j(1.0, kRoot / kRadius * r); }, 0.0,
+             kRadius);
 }
 
 struct ModeError {
@@ -61,6 +58,8 @@ ModeError mode_error(const std::filesystem::path& dir, bool half_step) {
   const auto& dt = series.column("dt");
   const auto& momentum = series.column("momentum_x");
   const auto& energy = series.column("total_energy");
+  if (series.rows() < 2)
+    throw NumericalError(fmt::format("{}: fewer than two rows in timeseries.csv", dir.string()));
   double sum = 0;
   for (std::size_t k = 0; k < series.rows(); ++k) {
     const double at = half_step ? t[k] - 0.5 * dt[k] : t[k];

@@ -98,9 +98,8 @@ VerificationCase slope_fos() {
   vc.distributable = true;
   vc.description = "Griffiths & Lane (1999) homogeneous 2:1 slope (c' = 10 kPa, phi' = 20 deg, "
                    "psi = phi, quadratic B-splines): factor of safety by strength reduction "
-                   "(c / F, tan phi / F, "
-                   "bisection on F; failure: the current stiffness below 0.1, a mechanism) "
-                   "against 1.4.";
+                   "(c / F, tan phi / F, bisection on F; failure: the current stiffness below "
+                   "0.1, a mechanism) against 1.4.";
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
     const CaseSpec spec = load_verification_case(ctx);

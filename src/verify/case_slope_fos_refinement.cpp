@@ -27,6 +27,7 @@
 #include "slope_limit_equilibrium.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/solver/fos_refinement.hpp"
+#include "talus/solver/strength_reduction.hpp"
 
 #include <fmt/format.h>
 
@@ -71,20 +72,21 @@ SlopeSection section_of(const CaseSpec& spec) {
 }
 
 /// The limit-equilibrium factor of Davis's (1968) associated equivalent of the section's
-/// non-associated material: the F at which the reduced strength c / F, tan phi / F, weakened
-/// by beta(phi_F) = cos psi cos phi_F / (1 - sin psi sin phi_F), has Bishop's factor 1. As
-/// Bishop's factor scales with the strength, F = beta(phi_F) x Bishop, solved by fixed-point
-/// iteration (a contraction: beta varies slowly with F). None for associated flow.
+/// non-associated material: the F at which the strength reduced by F and weakened by
+/// beta(phi_F) (reduce_strength with the Davis flow rule: c beta / F, tan phi beta / F) has
+/// Bishop's factor 1. As Bishop's factor scales with the strength, F = beta(phi_F) x Bishop,
+/// solved by fixed-point iteration (a contraction: beta varies slowly with F). None for
+/// associated flow.
 std::optional<double> davis_factor(const CaseSpec& spec, double bishop) {
   const MaterialSpec& soil = spec.materials.front();
   if (soil.dilation_angle >= soil.friction_angle)
     return std::nullopt;
-  const double tan_phi = std::tan(soil.friction_angle * std::numbers::pi / 180);
-  const double psi = soil.dilation_angle * std::numbers::pi / 180;
+  const auto tan_deg = [](double degrees) { return std::tan(degrees * std::numbers::pi / 180); };
   double f = bishop;
   for (int k = 0; k < 100; ++k) {
-    const double phi_f = std::atan(tan_phi / f);
-    f = bishop * std::cos(psi) * std::cos(phi_f) / (1 - std::sin(psi) * std::sin(phi_f));
+    const MaterialSpec davis = reduce_strength(soil, f, StrengthReductionFlow::Davis);
+    const double beta = f * tan_deg(davis.friction_angle) / tan_deg(soil.friction_angle);
+    f = bishop * beta;
   }
   return f;
 }

@@ -135,19 +135,22 @@ double exact_stretch(double Y, double E) {
   return 0.5 * (lo + hi);
 }
 
-/// u(Y) by composite Simpson's rule on 2000 intervals (lambda is smooth in Y).
+/// u(Y) by Simpson's rule (lambda is smooth in Y).
 double exact_displacement(double Y, double E) {
-  const int n = 2000;
-  const double dY = Y / n;
-  double sum = 0;
-  for (int i = 0; i <= n; ++i) {
-    const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-    sum += w * (exact_stretch(i * dY, E) - 1.0);
-  }
-  return sum * dY / 3.0;
+  return simpson([E](double y) { return exact_stretch(y, E) - 1.0; }, 0.0, Y);
 }
 
 } // namespace
+
+double simpson(const std::function<double(double)>& f, double a, double b, int intervals) {
+  const double step = (b - a) / intervals;
+  double sum = 0;
+  for (int i = 0; i <= intervals; ++i) {
+    const double weight = (i == 0 || i == intervals) ? 1 : (i % 2 == 1 ? 4 : 2);
+    sum += weight * f(a + i * step);
+  }
+  return sum * step / 3.0;
+}
 
 std::vector<std::string> compressed_column_overrides(int n, double ratio) {
   const double h = kColumnHeight / n;

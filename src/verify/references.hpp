@@ -5,10 +5,14 @@
 #include "talus/io/csv.hpp"
 #include "talus/io/results.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace talus::references {
+
+/// int_a^b f by composite Simpson's rule on `intervals` (even) intervals.
+double simpson(const std::function<double(double)>& f, double a, double b, int intervals = 2000);
 
 // The talk's cantilever (verification/cantilever.yaml): L = 8, D = 1, E = 3e5, nu = 0.
 constexpr double kBeamLength = 8.0, kBeamDepth = 1.0, kBeamYoung = 3e5,
