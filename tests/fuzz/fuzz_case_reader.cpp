@@ -3,7 +3,10 @@
 // swapped lines, numbers replaced by extremes (0, -1, 1e308, nan, ...), huge strings, deep
 // nesting, YAML tags and stray YAML syntax, and feeds each mutant (sometimes with --set
 // overrides) to read_case_text and, when it parses and its memory estimate is small, to
-// build_scene in the case's dimension (2D, axisymmetric or 3D). It never runs a simulation.
+// build_scene in the case's dimension (2D, axisymmetric or 3D). A valid mutant whose scene is
+// smaller still is stepped: run_case carries it for a few steps (explicit, implicit or staged,
+// whatever it declares) into a scratch directory, and must end "stopped" (after those steps),
+// "completed" or "numerical_failure", or refuse it with InputError.
 //
 // A failure is any exception other than InputError (the CLI maps it to exit 1), a crash (signal)
 // or an input that takes longer than the watchdog (default 5 s): the input is saved to
@@ -18,6 +21,7 @@
 #include "talus/io/case_reader.hpp"
 #include "talus/scene/memory_estimate.hpp"
 #include "talus/scene/scene.hpp"
+#include "talus/solver/run.hpp"
 
 #include "case_mutator.hpp"
 
@@ -34,8 +38,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -129,27 +135,79 @@ std::vector<std::string> read_overrides(const fs::path& file) {
 }
 
 // --- one input --------------------------------------------------------------------------------
-enum class Outcome { Refused, Parsed, Built, Large };
+enum class Outcome { Refused, Large, Built, Stepped };
 
 /// The fuzzer builds scenes below this estimate, and sends only those (and refused inputs) to
 /// `talus check`, which would build scenes up to 1 GB: a mutant that happens to be a valid case
 /// of hundreds of megabytes is not a bug, and must not make the run slow or memory-hungry.
 constexpr double kSmallScene = 64e6;
 
-/// Reads `text` as the CLI would, and builds the scene when the estimate is small. Throws what
-/// the reader throws other than InputError.
-Outcome run_one(const std::string& text, const std::vector<std::string>& overrides) {
+/// Valid mutants below this estimate are also stepped (kStepsPerMutant steps): the shipped cases
+/// at their own resolution lie between 1 and 40 MB, so this steps the coarse ones and the
+/// mutants whose grid or point spacing was coarsened, at a few milliseconds per step.
+constexpr double kSteppedScene = 4e6;
+constexpr int kStepsPerMutant = 3;
+
+/// What a run of the fuzzer has seen, by outcome and by geometry.
+struct Tally {
+  std::size_t inputs = 0, refused = 0, parsed = 0, cli_runs = 0, failures = 0;
+  std::size_t built[3] = {}, stepped[3] = {}; ///< plane strain, axisymmetric, 3D
+  std::size_t numerical_failures = 0;         ///< stepped runs that ended in numerical failure
+  std::size_t steps = 0;                      ///< steps the stepped runs took in all
+};
+
+int geometry_index(const talus::CaseSpec& spec) {
+  if (spec.dimension == 3)
+    return 2;
+  return spec.geometry == talus::Geometry::Axisymmetric ? 1 : 0;
+}
+
+/// Steps a valid mutant for kStepsPerMutant steps in `scratch`. A run may end stopped (the
+/// steps were taken), completed (a shorter run) or in numerical failure (a mutant may be valid
+/// input and still an unstable model); anything else is a defect.
+void step(const talus::CaseSpec& spec, const fs::path& scratch, Tally& tally) {
+  talus::RunOptions options;
+  options.out_dir = scratch;
+  options.force = true;
+  options.threads = 1;
+  options.progress = false;
+  int steps = 0;
+  options.stop_after_step = [&steps](const talus::StepState&) -> std::optional<std::string> {
+    if (++steps < kStepsPerMutant)
+      return std::nullopt;
+    return std::string("the fuzzer's steps were taken");
+  };
+  const talus::RunResult result = talus::run_case(spec, options);
+  tally.steps += static_cast<std::size_t>(result.steps);
+  if (result.status == "numerical_failure")
+    ++tally.numerical_failures;
+  else if (result.status != "stopped" && result.status != "completed")
+    throw std::runtime_error("a stepped run ended with status \"" + result.status +
+                             "\": " + result.message);
+}
+
+/// Reads `text` as the CLI would, builds the scene when the estimate is small and steps it when
+/// it is smaller still. Throws what the reader, the builder or the run throws other than
+/// InputError.
+Outcome run_one(const std::string& text, const std::vector<std::string>& overrides,
+                const fs::path& scratch, Tally& tally) {
   try {
     const talus::CaseSpec spec = talus::read_case_text(text, "fuzz.yaml", overrides);
     // The reader has refused what does not fit the machine; the fuzzer builds only small scenes
     // so that it tries many inputs.
-    if (talus::estimate_memory(spec).total_bytes > kSmallScene)
+    const double bytes = talus::estimate_memory(spec).total_bytes;
+    if (bytes > kSmallScene)
       return Outcome::Large;
     if (spec.dimension == 3)
       talus::build_scene<3>(spec);
     else
       talus::build_scene<2>(spec); // plane strain and axisymmetry
-    return Outcome::Built;
+    ++tally.built[geometry_index(spec)];
+    if (bytes > kSteppedScene)
+      return Outcome::Built;
+    step(spec, scratch, tally);
+    ++tally.stepped[geometry_index(spec)];
+    return Outcome::Stepped;
   } catch (const talus::InputError&) {
     return Outcome::Refused;
   }
@@ -238,10 +296,14 @@ int main(int argc, char** argv) {
     else
       return usage();
   }
+  const fs::path scratch = fs::temp_directory_path() / ("talus-fuzz-" + std::to_string(::getpid()));
   if (!o.replay.empty()) {
     const std::string text = read_text(o.replay);
+    Tally tally;
     try {
-      const Outcome r = run_one(text, read_overrides(o.replay));
+      const Outcome r = run_one(text, read_overrides(o.replay), scratch / "run", tally);
+      std::error_code ec;
+      fs::remove_all(scratch, ec);
       std::printf("fuzz: replay %s: %s\n", o.replay.c_str(),
                   r == Outcome::Refused ? "refused (InputError)" : "accepted");
       return 0;
@@ -288,10 +350,12 @@ int main(int argc, char** argv) {
   });
 
   const auto start = Clock::now();
-  std::size_t inputs = 0, refused = 0, parsed = 0, built = 0, cli_runs = 0, failures = 0;
+  Tally tally;
+  std::size_t& inputs = tally.inputs;
+  std::size_t& failures = tally.failures;
   double slowest = 0;
-  const fs::path cli_file =
-      fs::temp_directory_path() / ("talus-fuzz-" + std::to_string(::getpid()) + ".yaml");
+  fs::create_directories(scratch);
+  const fs::path cli_file = scratch / "check.yaml";
   while (std::chrono::duration<double>(Clock::now() - start).count() < o.seconds) {
     const std::string text = mutator.mutant();
     const std::vector<std::string> sets = mutator.overrides();
@@ -304,20 +368,11 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     Outcome outcome = Outcome::Refused;
     try {
-      outcome = run_one(text, sets);
-      switch (outcome) {
-      case Outcome::Refused:
-        ++refused;
-        break;
-      case Outcome::Parsed:
-      case Outcome::Large:
-        ++parsed;
-        break;
-      case Outcome::Built:
-        ++parsed;
-        ++built;
-        break;
-      }
+      outcome = run_one(text, sets, scratch / "run", tally);
+      if (outcome == Outcome::Refused)
+        ++tally.refused;
+      else
+        ++tally.parsed;
     } catch (const std::exception& e) {
       ++failures;
       save(crash_path, text);
@@ -337,7 +392,7 @@ int main(int argc, char** argv) {
         outcome != Outcome::Large) {
       save(cli_file, text);
       const int code = run_cli(o.talus, cli_file, sets, static_cast<int>(o.watchdog) + 5);
-      ++cli_runs;
+      ++tally.cli_runs;
       if (code < 0 || code == talus::kExitOther || code > talus::kExitNumerical) {
         ++failures;
         const std::string file = crash_prefix + std::to_string(inputs) + ".cli.yaml";
@@ -353,11 +408,17 @@ int main(int argc, char** argv) {
   done = true;
   watchdog.join();
   std::error_code ec;
-  fs::remove(cli_file, ec);
+  fs::remove_all(scratch, ec);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("fuzz: seed %llu, %.1f s, %zu inputs (%zu refused with InputError, %zu parsed, %zu "
-              "scenes built), %zu through talus check, slowest input %.3f s, %zu failures\n",
-              static_cast<unsigned long long>(o.seed), seconds, inputs, refused, parsed, built,
-              cli_runs, slowest, failures);
+  const auto& b = tally.built;
+  const auto& st = tally.stepped;
+  std::printf(
+      "fuzz: seed %llu, %.1f s, %zu inputs (%zu refused with InputError, %zu parsed); "
+      "scenes built: %zu plane strain, %zu axisymmetric, %zu 3D; stepped %d steps: %zu "
+      "plane strain, %zu axisymmetric, %zu 3D (%zu steps; %zu ended in numerical failure); %zu "
+      "through talus check; slowest input %.3f s; %zu failures\n",
+      static_cast<unsigned long long>(o.seed), seconds, inputs, tally.refused, tally.parsed, b[0],
+      b[1], b[2], kStepsPerMutant, st[0], st[1], st[2], tally.steps, tally.numerical_failures,
+      tally.cli_runs, slowest, failures);
   return failures == 0 ? 0 : 1;
 }
