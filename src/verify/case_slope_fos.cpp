@@ -165,18 +165,19 @@ VerificationCase slope_fos_slab_3d() {
     const std::string plane_strain = (verification_dir() / "slope_fos.yaml").string();
     const std::string resolution = "strength_reduction.tolerance=0.01"; // the slab's own
     // The slab's formulation (uGIMP, psi = 0), not the plane-strain scene's.
-    const auto plane = [&](const std::string& f_bar) {
-      return read_case_file(
-          plane_strain, {resolution, "solver.shape=gimp", "materials.0.dilation_angle=0", f_bar});
+    const auto plane = [&](std::vector<std::string> keys) {
+      keys.insert(keys.end(), {resolution, "solver.shape=gimp", "materials.0.dilation_angle=0"});
+      return read_case_file(plane_strain, keys);
     };
     const FosRunResult slab = search(ctx, load_verification_case(ctx), "slab");
-    const Ensemble spread =
-        plane_strain_ensemble(ctx, plane("solver.f_bar_out_of_plane=true"), "plane_strain");
-    const FosRunResult in_plane = search(ctx, plane("solver.f_bar=true"), "plane_strain_in_plane");
+    const Ensemble spread = plane_strain_ensemble(
+        ctx, plane({"solver.f_bar=true", "solver.f_bar_out_of_plane=true"}), "plane_strain");
+    const FosRunResult in_plane =
+        search(ctx, plane({"solver.f_bar=true"}), "plane_strain_in_plane");
     const FosRunResult slab_plain =
         search(ctx, load_verification_case(ctx, {"solver.f_bar=false"}), "slab_without_f_bar");
     const Ensemble plain =
-        plane_strain_ensemble(ctx, plane("solver.f_bar=false"), "plane_strain_without_f_bar");
+        plane_strain_ensemble(ctx, plane({"solver.f_bar=false"}), "plane_strain_without_f_bar");
     const auto note = [](const FosRunResult& r, const Ensemble& e) {
       return fmt::format("slab bracket [{:.4f}, {:.4f}]; {}", r.fos.lower, r.fos.upper, e.spread());
     };
