@@ -1,17 +1,20 @@
 #pragma once
 // Private helpers shared by the results writer, reader and XDMF sidecar: RAII handles for HDF5
 // ids, error checking that turns a failing HDF5 call into std::runtime_error naming the
-// operation, the object and the file, string attributes, and the table of particle datasets
-// (names, shapes, units) that defines the run.h5 frame layout (docs/output-format.md).
+// operation, the object and the file, opening a file for appending, string attributes, and the
+// table of particle datasets (names, shapes, units) that defines the run.h5 frame layout
+// (docs/output-format.md).
 #include "talus/spec/case_spec.hpp"
 
 #include <hdf5.h>
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -181,6 +184,23 @@ inline void write_int64_attribute(hid_t obj, const char* name, std::int64_t valu
 
 /// Reads a string stored either as a variable-length or a fixed-length HDF5 string, from an
 /// attribute (is_attribute) or a scalar dataset.
+/// H5Fopen(RDWR), retried for a few seconds while another process holds a lock on the file
+/// (HDF5 1.10 locks files it has open, e.g. a viewer reading the previous frame).
+inline Handle open_for_append(const std::filesystem::path& file) {
+  using namespace std::chrono_literals;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  for (;;) {
+    const hid_t id = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (id >= 0)
+      return {id, H5Fclose};
+    // A lock held by another program clears; a file cut short by a kill does not.
+    if (!std::filesystem::exists(file) || std::chrono::steady_clock::now() >= deadline ||
+        error_detail().find("truncated file") != std::string::npos)
+      fail("H5Fopen (read-write; is the file open in another program?)", "", file);
+    std::this_thread::sleep_for(100ms);
+  }
+}
+
 inline std::string read_string(hid_t id, bool is_attribute, const Site& s) {
   Handle ftype = type_handle(is_attribute ? H5Aget_type(id) : H5Dget_type(id), s,
                              is_attribute ? "H5Aget_type" : "H5Dget_type");

@@ -21,7 +21,7 @@ commit_points(Scene<Dim>& scene, const ImplicitStepSetup<Dim, Shape, Axisymmetri
   using V = Vec<Dim>;
   auto& P = scene.particles;
   const double flip = scene.spec.solver.flip;
-  std::vector<V> internal(step.full_external.size(), V::Zero());
+  std::vector<V> internal(step.node.load.size(), V::Zero());
   for (Index p = 0; p < P.size(); ++p) {
     const auto s = at(p);
     V dx = V::Zero();
@@ -47,7 +47,7 @@ commit_points(Scene<Dim>& scene, const ImplicitStepSetup<Dim, Shape, Axisymmetri
       for (int c = 0; c < Dim; ++c) {
         const Index dof = step.displacement_dof(n, c);
         if (dof < 0) {
-          v_grid[c] += w * step.prescribed_du[at(n)][c] / dt;
+          v_grid[c] += w * step.node.prescribed_du[at(n)][c] / dt;
           continue;
         }
         const double a_new = balance.newmark_acceleration(dof, du[dof]);

@@ -19,7 +19,7 @@ public:
 
   /// Whether component a of node n follows its prescribed box.
   bool is_prescribed(Index n, int a) const {
-    const std::int32_t region = step_.node_region[at(n)];
+    const std::int32_t region = step_.node.region[at(n)];
     return region >= 0 && prescribed_[at(region)].displacement[at(a)].has_value();
   }
 
@@ -29,11 +29,11 @@ public:
     // The loads on a node are whole on every rank holding it: its owner subtracts them; the
     // internal forces are each rank's own, summed over the ranks below.
     for (Index n = 0; n < step_.map.node_count(); ++n)
-      if (step_.node_owner[at(n)] == step_.rank())
-        internal[at(n)] -= step_.full_external[at(n)];
+      if (step_.node.owner[at(n)] == step_.rank())
+        internal[at(n)] -= step_.node.load[at(n)];
     boxes.assign(prescribed_.size(), Vec3::Zero());
     for (Index n = 0; n < step_.map.node_count(); ++n) {
-      const std::int32_t region = step_.node_region[at(n)];
+      const std::int32_t region = step_.node.region[at(n)];
       if (region < 0)
         continue;
       for (int a = 0; a < Dim; ++a)
@@ -44,7 +44,8 @@ public:
       r.setZero();
     for (Index n = 0; n < step_.map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
-        if (const int face = step_.reaction_face[at(n)][at(a)]; face >= 0 && !is_prescribed(n, a))
+        if (const int face = step_.node.reaction_face[at(n)][at(a)];
+            face >= 0 && !is_prescribed(n, a))
           faces[static_cast<std::size_t>(face)][a] += internal[at(n)][a];
     faces = summed_over_ranks(faces, comm_);
     boxes = summed_over_ranks(std::span<const Vec3>(boxes), comm_);

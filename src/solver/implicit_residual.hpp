@@ -35,7 +35,7 @@ public:
     V u;
     for (int a = 0; a < Dim; ++a) {
       const Index dof = displacement_dof(map, n, a);
-      u[a] = dof >= 0 ? du[dof] : step_.prescribed_du[at(n)][a];
+      u[a] = dof >= 0 ? du[dof] : step_.node.prescribed_du[at(n)][a];
     }
     return u;
   }

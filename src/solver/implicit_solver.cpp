@@ -213,7 +213,7 @@ public:
     // step holds): its map covers all of them, owned first, so local ids are the step's.
     std::vector<Index> nodes(at(step_.map.node_count()));
     std::iota(nodes.begin(), nodes.end(), Index{0});
-    whole_map_ = DofMap(whole_.index, std::move(nodes), step_.dofs, step_.node_owner);
+    whole_map_ = DofMap(whole_.index, std::move(nodes), step_.dofs, step_.node.owner);
     if (whole_map_.owned_count() != step_.owned_dof_count)
       throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
     linear_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
@@ -223,7 +223,7 @@ public:
       throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())
       linear_->set_near_null_space(
-          rigid_body_modes<Dim, Axisymmetric>(step_.map.nodes(), step_.dofs, step_.dof_count));
+          near_null_space<Dim, Axisymmetric>(step_.map.nodes(), step_.dofs, step_.dof_count));
   }
 
   const NodeDofs& global_dofs() const override { return step_.dofs; }
@@ -360,7 +360,7 @@ private:
   // tolerance would be relative to the no-load fallback and ask for digits nobody needs.
   void scale_by_prescribed_motion() {
     const bool moving =
-        comm_->any(std::any_of(step_.prescribed_du.begin(), step_.prescribed_du.end(),
+        comm_->any(std::any_of(step_.node.prescribed_du.begin(), step_.node.prescribed_du.end(),
                                [](const V& u) { return (u.array() != 0.0).any(); }));
     if (step_.global_dof_count == 0 || !moving)
       return;

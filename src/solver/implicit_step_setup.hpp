@@ -14,6 +14,8 @@
 #include "talus/scene/scene.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
+#include "implicit_node_fields.hpp"
+
 #include <Eigen/Core>
 
 #include <algorithm>
@@ -46,26 +48,19 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   };
 
   ParticleGridMap<Dim, Shape> map;
-  std::vector<double> node_mass; ///< per active node (the map's node numbers)
-  /// Per node: the prescribed box that holds it (-1 if none), and per component the face that
-  /// receives its reaction (FaceConditions::reaction_faces).
-  std::vector<std::int32_t> node_region;
-  std::vector<std::array<std::int8_t, Dim>> reaction_face;
+  ImplicitNodeFields<Dim> node; ///< per active node (the map's node numbers)
   /// The nodes this rank shares with the others (none on one rank).
   NodeHalo<Dim> halo;
-  std::vector<int> node_owner; ///< per node: the rank that owns it (its lowest holder)
   /// Per (node, field, component): the unknown, or none. The unknowns of the nodes this rank
   /// owns come first (owned_dof_count of them), then those of the nodes it shares with a lower
   /// rank; each node's components are consecutive.
   NodeDofs dofs{NodeLayout(Dim)};
   Index owned_dof_count = 0;
-  std::vector<Index> dof_gid;   ///< per unknown: its global id
-  Index global_dof_count = 0;   ///< the unknowns of every rank (owned ones counted once)
-  Index global_node_count = 0;  ///< the active nodes of every rank (each counted once)
-  std::vector<V> prescribed_du; ///< per node: this step's prescribed increment
+  std::vector<Index> dof_gid;  ///< per unknown: its global id
+  Index global_dof_count = 0;  ///< the unknowns of every rank (owned ones counted once)
+  Index global_node_count = 0; ///< the active nodes of every rank (each counted once)
   Index dof_count = 0;
-  Eigen::VectorXd external;     ///< per unknown: the load
-  std::vector<V> full_external; ///< per node: the load (reactions)
+  Eigen::VectorXd external; ///< per unknown: the load
   double force_scale = 1;
   std::vector<double> dof_mass, grid_v, grid_a; ///< Newmark state per unknown (dynamic)
   GhostPenalty<Dim> ghost;
@@ -83,17 +78,13 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
     const double heaviest = scene.decomposition->comm().max(sum_node_masses(scene));
     if (!scene.spec.prescribed.empty())
       place_prescribed_boxes<Dim>(scene, l.ramp_committed);
-    prepare_ghost_penalty(scene, heaviest, young);
-    const auto nn = at(map.node_count());
-    node_region.resize(nn);
-    reaction_face.resize(nn);
+    prepare_ghost_penalty(scene, heaviest, young); // may add nodes
+    node.resize(map.node_count());
     for (Index n = 0; n < map.node_count(); ++n) {
-      node_region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
-      reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
+      node.region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
+      node.reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
+      node.owner[at(n)] = halo.owner(n);
     }
-    node_owner.resize(nn);
-    for (Index n = 0; n < map.node_count(); ++n)
-      node_owner[at(n)] = halo.owner(n);
     number_unknowns(scene, l, heaviest);
     if (l.dynamic)
       project_inertia(P);
@@ -110,24 +101,24 @@ private:
   void number_unknowns(const Scene<Dim>& scene, const Loading& l, double heaviest) {
     const auto nn = at(map.node_count());
     dofs.reset(map.node_count());
-    prescribed_du.assign(nn, V::Zero());
+    node.prescribed_du.assign(nn, V::Zero());
     dof_count = 0;
     for (const bool owned : {true, false})
       for (Index n = 0; n < map.node_count(); ++n) {
-        if ((node_owner[at(n)] == rank_) != owned)
+        if ((node.owner[at(n)] == rank_) != owned)
           continue;
-        const std::int32_t region = node_region[at(n)];
+        const std::int32_t region = node.region[at(n)];
         const std::uint8_t mask = scene.face_conditions.held(map.nodes().ijk(n));
         for (int a = 0; a < Dim; ++a) {
           // A prescribed component wins over a face condition on the same node.
           if (region >= 0) {
             const auto& value = scene.spec.prescribed[at(region)].displacement[at(a)];
             if (value) {
-              prescribed_du[at(n)][a] = (l.ramp_end - l.ramp_committed) * *value;
+              node.prescribed_du[at(n)][a] = (l.ramp_end - l.ramp_committed) * *value;
               continue;
             }
           }
-          if (node_mass[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
+          if (node.mass[at(n)] < kImplicitTinyNodeMassFraction * heaviest || (mask & (1u << a)))
             continue;
           dofs.set(n, NodeLayout::kDisplacement, a, dof_count++);
         }
@@ -152,7 +143,7 @@ private:
     }
     Index owned_nodes = 0;
     for (Index n = 0; n < map.node_count(); ++n)
-      owned_nodes += node_owner[at(n)] == rank_;
+      owned_nodes += node.owner[at(n)] == rank_;
     global_node_count = comm.sum(std::int64_t{owned_nodes});
     const std::span<const Index> table = dofs.table();
     std::vector<double> id_plus_one(table.size(), 0.0);
@@ -188,16 +179,16 @@ private:
   // The nodes' masses (summed over the ranks that share a node); returns the heaviest here.
   double sum_node_masses(const Scene<Dim>& scene) {
     const auto& P = scene.particles;
-    node_mass.assign(at(map.node_count()), 0.0);
+    node.mass.assign(at(map.node_count()), 0.0);
     double heaviest = 0;
     for (Index n = 0; n < map.node_count(); ++n) {
       double m = 0;
       map.for_each_particle_of(n, [&](Index p, double w, const V&) { m += w * P.mass[at(p)]; });
-      node_mass[at(n)] = m;
+      node.mass[at(n)] = m;
     }
-    const typename NodeHalo<Dim>::Field field{node_mass.data(), 1};
+    const typename NodeHalo<Dim>::Field field{node.mass.data(), 1};
     halo.sum({&field, 1});
-    for (const double m : node_mass)
+    for (const double m : node.mass)
       heaviest = std::max(heaviest, m);
     return heaviest;
   }
@@ -217,7 +208,7 @@ private:
     const auto nn = at(map.node_count());
     std::vector<double> mine(2 * nn);
     for (std::size_t n = 0; n < nn; ++n) {
-      mine[2 * n] = node_mass[n];
+      mine[2 * n] = node.mass[n];
       mine[2 * n + 1] = node_modulus_[n];
     }
     const auto theirs = halo.neighbour_nodes(map.nodes(), mine, 2);
@@ -239,7 +230,7 @@ private:
       const Index n = node_of_view[v];
       if (n < 0)
         continue;
-      mass[v] = node_mass[at(n)];
+      mass[v] = node.mass[at(n)];
       modulus[v] = node_modulus_[at(n)];
       lowest[v] = halo.owner(n);
     }
@@ -332,9 +323,9 @@ private:
         const Index dof = displacement_dof(n, a);
         if (dof < 0)
           continue;
-        dof_mass[at(dof)] = node_mass[at(n)];
-        grid_v[at(dof)] = mv[at(n)][a] / node_mass[at(n)];
-        grid_a[at(dof)] = ma[at(n)][a] / node_mass[at(n)];
+        dof_mass[at(dof)] = node.mass[at(n)];
+        grid_v[at(dof)] = mv[at(n)][a] / node.mass[at(n)];
+        grid_a[at(dof)] = ma[at(n)][a] / node.mass[at(n)];
       }
   }
 
@@ -343,10 +334,10 @@ private:
   // |a|), or without any load the force of a cell strained by 1e-6.
   void gather_loads(const Scene<Dim>& scene, const Loading& l) {
     const auto& P = scene.particles;
-    full_external.assign(at(map.node_count()), V::Zero());
+    node.load.assign(at(map.node_count()), V::Zero());
     const V g = head<Dim>(scene.spec.gravity);
     force_scale = 0;
-    auto add = [&](Index n, const V& f) { full_external[at(n)] += f; };
+    auto add = [&](Index n, const V& f) { node.load[at(n)] += f; };
     for (Index p = 0; p < P.size(); ++p) {
       const V f = l.lambda_end * P.external_force[at(p)] +
                   (l.gravity_ramped ? l.lambda_end : 1.0) * P.mass[at(p)] * g;
@@ -363,14 +354,14 @@ private:
       for (Index p = 0; p < P.size(); ++p)
         force_scale = std::max(
             force_scale, P.mass[at(p)] * (P.v[at(p)].norm() / l.dt + P.acceleration[at(p)].norm()));
-    const typename NodeHalo<Dim>::Field field = NodeHalo<Dim>::field(full_external);
+    const typename NodeHalo<Dim>::Field field = NodeHalo<Dim>::field(node.load);
     halo.sum({&field, 1});
     force_scale = scene.decomposition->comm().max(force_scale);
     external.setZero(static_cast<Eigen::Index>(dof_count));
     for (Index n = 0; n < map.node_count(); ++n)
       for (int a = 0; a < Dim; ++a)
         if (const Index dof = displacement_dof(n, a); dof >= 0)
-          external[dof] += full_external[at(n)][a];
+          external[dof] += node.load[at(n)][a];
     if (force_scale == 0) {
       double modulus = 0;
       for (const auto& m : scene.materials)

@@ -7,6 +7,7 @@
 #include "talus/linalg/dof_map.hpp"
 #include "talus/linalg/lattice_assembler.hpp"
 #include "talus/linalg/node_layout.hpp"
+#include "talus/solver/rigid_body_modes.hpp"
 
 #include <gtest/gtest.h>
 
@@ -198,4 +199,52 @@ TEST(TwoFieldAssembly, RefusesABlockOfTheWrongField) {
   EXPECT_THROW(
       assembler.add_coupling_block(cell, kU, problem.pressure, Eigen::MatrixXd::Zero(4, 8)),
       std::invalid_argument);
+}
+
+// The solver's view of the block structure (near_null_space, handed to MueLu): the
+// displacement's rigid-body modes, then a constant on the pressure's unknowns, which a pure-flux
+// diffusion operator annihilates. Without the constant column (the rigid modes alone, zero on
+// the pressure rows) the pressure's block would be interpolated by nothing.
+TEST(TwoFieldAssembly, NearNullSpaceHasAConstantPerScalarField) {
+  const TwoFieldProblem problem;
+  const NodeDofs& dofs = problem.dofs;
+  const Eigen::MatrixXd rigid =
+      talus::rigid_body_modes<2, false>(problem.nodes, dofs, problem.unknowns);
+  const Eigen::MatrixXd modes =
+      talus::near_null_space<2, false>(problem.nodes, dofs, problem.unknowns);
+  ASSERT_EQ(modes.cols(), rigid.cols() + 1);
+  EXPECT_EQ(modes.leftCols(rigid.cols()), rigid);
+  const Eigen::VectorXd constant = modes.col(rigid.cols());
+  Index pressures = 0;
+  for (Index n = 0; n < problem.nodes.size(); ++n) {
+    for (int a = 0; a < 2; ++a) {
+      if (const Index d = dofs.dof(n, kU, a); d >= 0) {
+        EXPECT_EQ(constant[d], 0.0);
+      }
+    }
+    if (const Index d = dofs.dof(n, problem.pressure, 0); d >= 0) {
+      EXPECT_EQ(constant[d], 1.0);
+      ++pressures;
+    }
+  }
+  EXPECT_EQ(constant.sum(), static_cast<double>(pressures));
+  // A bilinear cell's diffusion matrix (unit square, corners (0,0), (1,0), (0,1), (1,1)),
+  // assembled with every component of every node free (a pure-flux problem): K 1 = 0.
+  Eigen::Matrix4d laplace;
+  laplace << 4, -1, -1, -2, -1, 4, -2, -1, -1, -2, 4, -1, -2, -1, -1, 4;
+  laplace /= 6.0;
+  NodeDofs free(problem.layout);
+  free.reset(problem.nodes.size());
+  for (Index n = 0; n < problem.nodes.size(); ++n)
+    for (int k = 0; k < 3; ++k)
+      free.set(n, k < 2 ? kU : problem.pressure, k < 2 ? k : 0, 3 * n + k);
+  const Index size = 3 * problem.nodes.size();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(size, size);
+  for (const auto& cell : problem.cells)
+    add_by_hand(A, free, cell, problem.pressure, problem.pressure, laplace);
+  const Eigen::MatrixXd free_modes = talus::near_null_space<2, false>(problem.nodes, free, size);
+  ASSERT_EQ(free_modes.cols(), 4); // two translations, the rotation, the constant
+  EXPECT_LT((A * free_modes).cwiseAbs().maxCoeff(), 1e-14);
+  // Not vacuous: the operator moves a single pressure.
+  EXPECT_GT((A * Eigen::VectorXd::Unit(size, free.dof(0, problem.pressure, 0))).norm(), 0.5);
 }

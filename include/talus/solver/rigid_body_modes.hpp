@@ -6,6 +6,8 @@
 // the in-plane rotation; 3D: three translations and three rotations; axisymmetry: the axial
 // translation only (a radial translation stretches the hoops, a rotation leaves the meridian
 // plane). Rotations are taken about the unknowns' centroid so that no mode dwarfs the others.
+// A layout's other fields (a pore pressure) add a constant per component: the null space of
+// their flux operator, which aggregation would otherwise interpolate by nothing at all.
 #include "talus/grid/active_nodes.hpp"
 #include "talus/linalg/node_layout.hpp"
 
@@ -55,6 +57,31 @@ Eigen::MatrixXd rigid_body_modes(const ActiveNodes<Dim>& nodes, const NodeDofs& 
         }
       }
     }
+  }
+  return modes;
+}
+
+/// The near-null space of a layout's unknowns, the solver's view of the block structure: the
+/// displacement's rigid-body modes, then for each component of every other field a column of
+/// ones on that component's unknowns. A displacement-only layout gives rigid_body_modes.
+template <int Dim, bool Axisymmetric>
+Eigen::MatrixXd near_null_space(const ActiveNodes<Dim>& nodes, const NodeDofs& dofs,
+                                Index unknowns) {
+  const Eigen::MatrixXd rigid = rigid_body_modes<Dim, Axisymmetric>(nodes, dofs, unknowns);
+  const NodeLayout& layout = dofs.layout();
+  const int constants = layout.width() - layout.components(NodeLayout::kDisplacement);
+  if (constants == 0)
+    return rigid;
+  Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(unknowns, rigid.cols() + constants);
+  modes.leftCols(rigid.cols()) = rigid;
+  Eigen::Index column = rigid.cols();
+  for (int field = 0; field < layout.fields(); ++field) {
+    if (field == NodeLayout::kDisplacement)
+      continue;
+    for (int c = 0; c < layout.components(field); ++c, ++column)
+      for (Index n = 0; n < nodes.size(); ++n)
+        if (const Index d = dofs.dof(n, field, c); d >= 0)
+          modes(d, column) = 1.0;
   }
   return modes;
 }
