@@ -5,6 +5,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/io/case_reader.hpp"
 #include "talus/io/case_vocabulary.hpp"
+#include "talus/io/plausibility.hpp"
 #include "talus/io/render.hpp"
 #include "talus/linalg/linear_solver.hpp"
 #include "talus/parallel/communicator.hpp"
@@ -62,6 +63,15 @@ int print_info() {
   return kExitOk;
 }
 
+/// Reads and validates the case and prints its plausibility warnings (once, from rank 0).
+CaseSpec read_case(const std::string& case_file, const std::vector<std::string>& overrides) {
+  CaseSpec spec = read_case_file(case_file, overrides);
+  if (Communicator::world().root())
+    for (const PlausibilityWarning& warning : plausibility_warnings(spec))
+      fmt::print(stderr, "{}\n", describe(warning));
+  return spec;
+}
+
 /// The estimate against what the machine has free right now: a case that fits in the machine
 /// but not in its available memory may still run (the kernel reclaims caches), but the user
 /// should know before a long run starts.
@@ -78,7 +88,7 @@ void warn_if_memory_is_short(const CaseSpec& spec) {
 /// talus check: reads and validates the case with its overrides and prints what it would
 /// allocate; writes nothing. Exit 0, or 2 for bad input.
 int check_command(const std::string& case_file, const std::vector<std::string>& overrides) {
-  const CaseSpec spec = read_case_file(case_file, overrides);
+  const CaseSpec spec = read_case(case_file, overrides);
   const MemoryEstimate estimate = estimate_memory(spec);
   const MachineMemory machine = machine_memory();
   // The scene is the last place a case can be refused (a velocity expression that is NaN at a
@@ -112,7 +122,7 @@ int check_command(const std::string& case_file, const std::vector<std::string>& 
 
 int run_command(const std::string& case_file, const std::vector<std::string>& overrides,
                 RunOptions options) {
-  const CaseSpec spec = read_case_file(case_file, overrides);
+  const CaseSpec spec = read_case(case_file, overrides);
   warn_if_memory_is_short(spec);
   const RunResult r = run_case(spec, options);
   if (!Communicator::world().root())
@@ -127,7 +137,7 @@ int run_command(const std::string& case_file, const std::vector<std::string>& ov
 
 int fos_command(const std::string& case_file, const std::vector<std::string>& overrides,
                 const FosOptions& options, int refine) {
-  const CaseSpec spec = read_case_file(case_file, overrides);
+  const CaseSpec spec = read_case(case_file, overrides);
   if (refine > 1) {
     const FosRefinement r = refine_factor_of_safety(spec, options, refine);
     if (!Communicator::world().root())
@@ -161,6 +171,7 @@ int fos_command(const std::string& case_file, const std::vector<std::string>& ov
 
 int adapt_command(const std::string& case_file, const std::vector<std::string>& overrides,
                   const AdaptOptions& options) {
+  read_case(case_file, overrides);
   const AdaptReport report = adapt_case(case_file, overrides, options);
   fmt::print("marked {} of {} body cells; adapted case: {} --set ...\n{}", report.marked_cells,
              report.body_cells, case_file, adapt_table(report));

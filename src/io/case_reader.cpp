@@ -50,6 +50,7 @@ Map::Map(const Validator& v, Item self, const std::vector<std::string>& allowed)
                             std::to_string(where.line) + ")");
     }
     entries_.push_back(Entry{name, key_item, Item{value, mark_or(value, key_mark), path}});
+    v_.note_location(entries_.back().value);
   }
 }
 
@@ -186,7 +187,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   const Map top(*this, top_item,
                 {"name", "analysis", "dimension", "geometry", "grid", "materials", "bodies",
                  "gravity", "boundaries", "point_loads", "tractions", "prescribed", "time",
-                 "output", "probes", "solver", "strength_reduction", "stages"});
+                 "output", "probes", "solver", "strength_reduction", "stages", "silence_warnings"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
   if (top.has("analysis") && !top.present("stages"))
@@ -198,9 +199,9 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.geometry = geometry(top["geometry"]);
   axisymmetric_ = spec.geometry == Geometry::Axisymmetric;
   spec.grid = grid(top.required("grid"));
-  spec.materials = materials(top.required("materials"));
   if (top.has("gravity"))
     spec.gravity = point(top["gravity"]);
+  spec.materials = materials(top.required("materials"), spec.gravity);
   spec.bodies = bodies(top.required("bodies"), spec);
   if (top.present("stages")) {
     for (const char* key : {"analysis", "time"})
@@ -251,8 +252,18 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   }
   if (top.present("strength_reduction"))
     spec.strength_reduction = strength_reduction(top["strength_reduction"], spec);
+  if (top.present("silence_warnings"))
+    spec.silenced_warnings = silenced_warnings(top["silence_warnings"]);
   check_memory(top, spec);
+  spec.locations = std::move(locations_);
   return spec;
+}
+
+std::vector<PlausibilityCheck> Validator::silenced_warnings(const Item& it) const {
+  std::vector<PlausibilityCheck> out;
+  for (const Item& item : list(it))
+    out.push_back(choice(item, plausibility_check_choices()));
+  return out;
 }
 
 // Nothing is allocated for a case before this estimate said it fits: a grid of 1e-9 m cells

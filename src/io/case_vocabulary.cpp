@@ -88,6 +88,17 @@ const Choices<OutputField>& output_field_choices() {
   return c;
 }
 
+const Choices<PlausibilityCheck>& plausibility_check_choices() {
+  static const Choices<PlausibilityCheck> c{{"density", PlausibilityCheck::Density},
+                                            {"youngs_modulus", PlausibilityCheck::YoungsModulus},
+                                            {"strength", PlausibilityCheck::Strength},
+                                            {"friction_angle", PlausibilityCheck::FrictionAngle},
+                                            {"load", PlausibilityCheck::Load},
+                                            {"gravity", PlausibilityCheck::Gravity},
+                                            {"displacement", PlausibilityCheck::Displacement}};
+  return c;
+}
+
 std::vector<std::string> material_model_names(bool plastic) {
   std::vector<std::string> names;
   for (const auto& [word, model] : material_model_choices())

@@ -1,8 +1,11 @@
 // The bodies section of a case file: material, velocity, placement, initial stress, splitting
 // and refinement (docs/case-format.md, bodies). Shapes and their geometry: read_body_geometry.cpp.
+#include "talus/scene/body_geometry.hpp"
+
 #include "validator.hpp"
 
-#include "talus/scene/body_geometry.hpp"
+#include <cmath>
+#include <numbers>
 
 namespace talus::detail {
 
@@ -161,9 +164,21 @@ BodySpec::InitialStress Validator::initial_stress(const Item& it, const BodySpec
   if (m.has("k0")) {
     const Item k0 = m["k0"];
     s.where = locate(k0);
-    s.k0 = number(k0);
-    if (!(*s.k0 > 0.0))
-      fail(k0, "must be positive (got " + shown(k0.node.Scalar()) + ")");
+    if (k0.node.IsScalar() && k0.node.Scalar() == "jaky") {
+      // Jaky's (1944) K0 = 1 - sin(phi') of a normally consolidated soil.
+      if (material.model != MaterialModel::MohrCoulomb &&
+          material.model != MaterialModel::DruckerPrager)
+        fail(k0, "k0: jaky needs a friction angle; material '" + material.name +
+                     "' has none (mohr_coulomb and drucker_prager have one)");
+      s.k0 = 1.0 - std::sin(material.friction_angle * std::numbers::pi / 180.0);
+      if (!(*s.k0 > 0.0))
+        fail(k0, "k0: jaky gives 1 - sin(phi) <= 0 for material '" + material.name + "'");
+    } else {
+      s.k0 = number(k0);
+      if (!(*s.k0 > 0.0))
+        fail(k0,
+             "must be positive, or jaky for 1 - sin(phi) (got " + shown(k0.node.Scalar()) + ")");
+    }
   }
   return s;
 }

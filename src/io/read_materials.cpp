@@ -4,7 +4,7 @@
 
 namespace talus::detail {
 
-std::vector<MaterialSpec> Validator::materials(const Item& it) const {
+std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravity) const {
   const std::vector<Item> items = list(it);
   if (items.empty())
     fail(it, "list at least one material");
@@ -12,8 +12,8 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
   UniqueNames names(*this, "material");
   for (const Item& item : items) {
     const Map m(*this, item,
-                {"name", "model", "density", "youngs_modulus", "poisson_ratio", "kinematics",
-                 "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
+                {"name", "model", "density", "unit_weight", "youngs_modulus", "poisson_ratio",
+                 "kinematics", "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
                  "dilation_angle", "residual"});
     MaterialSpec s;
     s.where = locate(m.self());
@@ -22,7 +22,7 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
     names.add(s.name, name_item, item.path);
     const Item model_item = m.required("model");
     s.model = choice(model_item, material_model_choices());
-    s.density = positive(m.required("density"));
+    s.density = density(m, gravity);
     s.youngs_modulus = positive(m.required("youngs_modulus"));
     const Item nu = m.required("poisson_ratio");
     s.poisson_ratio = number(nu);
@@ -32,6 +32,24 @@ std::vector<MaterialSpec> Validator::materials(const Item& it) const {
     out.push_back(std::move(s));
   }
   return out;
+}
+
+/// `density` (kg/m^3), or `unit_weight` (N/m^3, the geotechnical gamma) divided by the case's
+/// |g|, so that rho |g| is exactly the weight given.
+double Validator::density(const Map& m, const Vec3& gravity) const {
+  if (m.has("density") && m.has("unit_weight"))
+    fail(m.key("unit_weight"), "give either density (kg/m^3) or unit_weight (N/m^3), not both");
+  if (!m.has("unit_weight")) {
+    if (!m.has("density"))
+      fail(m.self(), "missing required key 'density' (kg/m^3), or give 'unit_weight' (N/m^3)");
+    return positive(m["density"]);
+  }
+  const Item gamma = m["unit_weight"];
+  const double weight = positive(gamma);
+  if (gravity.norm() == 0.0)
+    fail(gamma, "unit_weight needs gravity (the case has none, so the weight says nothing about "
+                "the mass); give density in kg/m^3 instead, or the case's gravity");
+  return weight / gravity.norm();
 }
 
 void Validator::plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const {

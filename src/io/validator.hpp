@@ -109,6 +109,8 @@ public:
     return SourceLocation{file_, mark.line + 1, mark.column + 1, path};
   }
   SourceLocation locate(const Item& it) const { return locate(it.mark, it.path); }
+  /// Records where a map's value sat, for CaseSpec::locations.
+  void note_location(const Item& value) const { locations_[value.path] = locate(value); }
 
   [[noreturn]] void fail(const Item& at, const std::string& what) const {
     std::string message = what;
@@ -339,7 +341,9 @@ private:
   int dimension(const Item& it) const;
   Geometry geometry(const Item& it) const;
   GridSpec grid(const Item& it) const;
-  std::vector<MaterialSpec> materials(const Item& it) const;
+  std::vector<MaterialSpec> materials(const Item& it, const Vec3& gravity) const;
+  std::vector<PlausibilityCheck> silenced_warnings(const Item& it) const;
+  double density(const Map& m, const Vec3& gravity) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;
   void body_shape(const Map& m, BodySpec& b) const;
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;
@@ -397,6 +401,7 @@ private:
   /// after it have as many components.
   mutable int dimension_ = 2;
   mutable bool axisymmetric_ = false; ///< the case's geometry, known with its dimension
+  mutable std::map<std::string, SourceLocation> locations_; ///< see note_location
 };
 
 /// The output defaults: the six fields, plus plastic_strain when the case has an

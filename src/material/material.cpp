@@ -38,19 +38,19 @@ void Material::set_initial_stress(std::span<const Index> ids, std::span<const Ma
 
 namespace {
 
-/// det F, or NumericalError naming the model and material when it is not positive.
-double checked_jacobian(const Mat3& F, const char* model, const std::string& name) {
+/// det F, or NumericalError naming the model when it is not positive (the batch adds the
+/// material and the point: evaluate_point).
+double checked_jacobian(const Mat3& F, const char* model) {
   const double J = F.determinant();
   if (!(J > 0.0))
-    throw NumericalError(
-        fmt::format("{} material '{}': det F = {:g} is not positive", model, name, J));
+    throw NumericalError(fmt::format("{}: det F = {:g} is not positive", model, J));
   return J;
 }
 
 } // namespace
 
 Mat3 LinearElastic::stress(const Mat3& F) const {
-  const double J = checked_jacobian(F, "linear elastic", name());
+  const double J = checked_jacobian(F, "linear elastic");
   return linear_elastic_kirchhoff(F, lame()) / J;
 }
 
@@ -64,12 +64,12 @@ double LinearElastic::energy_density(const Mat3& F) const {
 }
 
 Mat3 NeoHookean::stress(const Mat3& F) const {
-  const double J = checked_jacobian(F, "neo-Hookean", name());
+  const double J = checked_jacobian(F, "neo-Hookean");
   return neo_hookean_kirchhoff(F, lame()) / J;
 }
 
 StressTangent NeoHookean::response(const Mat3& F) const {
-  checked_jacobian(F, "neo-Hookean", name());
+  checked_jacobian(F, "neo-Hookean");
   return neo_hookean_response(F, lame());
 }
 
@@ -81,12 +81,12 @@ double NeoHookean::energy_density(const Mat3& F) const {
 }
 
 Mat3 Hencky::stress(const Mat3& F) const {
-  const double J = checked_jacobian(F, "Hencky", name());
+  const double J = checked_jacobian(F, "Hencky");
   return hencky_kirchhoff(F, lame()) / J;
 }
 
 StressTangent Hencky::response(const Mat3& F) const {
-  checked_jacobian(F, "Hencky", name());
+  checked_jacobian(F, "Hencky");
   return hencky_response(F, lame());
 }
 

@@ -34,8 +34,10 @@ void PlasticMaterial::response(std::span<const Index> ids, std::span<const Mat3>
   reserve_points(F.size());
   parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
     const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-    out[p] = elastoplastic_response(*model_, kinematics_, F[p], converged_F_[p], converged_[p],
+    out[p] = evaluate_point(name(), p, [&] {
+      return elastoplastic_response(*model_, kinematics_, F[p], converged_F_[p], converged_[p],
                                     trial_[p], &trial_return_[p]);
+    });
     trial_F_[p] = F[p];
   });
 }
@@ -54,13 +56,14 @@ void PlasticMaterial::update_stress(std::span<const Index> ids, std::span<const 
   parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
     const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
     const Mat3& F3 = F[p];
-    const double J = F3.determinant();
-    if (!(J > 0.0))
-      throw NumericalError(fmt::format("{} material '{}': det F = {:g} is not positive at point {}",
-                                       model_->name(), name(), J, p));
-    const Mat3 tau = elastoplastic_kirchhoff(*model_, kinematics_, F3, converged_F_[p],
-                                             converged_[p], trial_[p], &trial_return_[p]);
-    stress[p] = tau / J;
+    stress[p] = evaluate_point(name(), p, [&] {
+      const double J = F3.determinant();
+      if (!(J > 0.0))
+        throw NumericalError(fmt::format("{}: det F = {:g} is not positive", model_->name(), J));
+      return Mat3(elastoplastic_kirchhoff(*model_, kinematics_, F3, converged_F_[p], converged_[p],
+                                          trial_[p], &trial_return_[p]) /
+                  J);
+    });
     converged_[p] = trial_[p];
     converged_F_[p] = F3;
   });

@@ -5,6 +5,8 @@
 #include "talus/scene/body_geometry.hpp"
 #include "talus/scene/splitting.hpp"
 
+#include "load_reach.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -381,6 +383,7 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
   scene.face_conditions =
       FaceConditions<Dim>(scene.grid, spec.boundaries, spec.geometry == Geometry::Axisymmetric);
   place_prescribed_boxes<Dim>(scene, 0.0);
+  check_loads_reach_material<Dim>(scene);
   for (const ProbeSpec& probe : spec.probes) {
     Index p = -1;
     if (probe.particle) {

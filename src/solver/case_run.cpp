@@ -4,6 +4,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/scene/migration.hpp"
+#include "talus/solver/failure_hints.hpp"
 #include "talus/solver/scene_checkpoint.hpp"
 #include "talus/solver/stage_watch.hpp"
 
@@ -240,11 +241,16 @@ template <int Dim> RunResult Run<Dim>::execute() {
     state_.checkpoint = nullptr;
     state_.stage_totals = nullptr;
     result_.status = "numerical_failure";
-    if (dynamic_cast<const NewtonStall*>(&err))
+    const bool stalled = dynamic_cast<const NewtonStall*>(&err) != nullptr;
+    if (stalled)
       result_.extra["newton_stalled"] = 1.0;
+    const FailureContext context{scene_.spec.analysis, stalled};
+    const auto* point = dynamic_cast<const PointFailure*>(&err);
+    const std::string causes = describe_likely_causes(likely_failure_causes(scene_.spec, context));
     result_.message = fmt::format(
-        "step {}, t = {:g}{}: {}", state_.step + 1, stage_start_time_ + state_.t,
-        spec_.stages.empty() ? "" : fmt::format(" (stage '{}')", current_->name), err.what());
+        "step {}, t = {:g}{}: {}{}{}", state_.step + 1, stage_start_time_ + state_.t,
+        spec_.stages.empty() ? "" : fmt::format(" (stage '{}')", current_->name), err.what(),
+        point ? where_point_is(scene_, point->point()) : "", causes.empty() ? "" : ". " + causes);
     result_.exit_code = kExitNumerical;
     if (current_)
       end_stage(fmt::format("failed: {}", err.what()));

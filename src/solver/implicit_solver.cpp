@@ -128,6 +128,8 @@ public:
           line_search_first_ = !line_search_first;
       }
     }
+    if (!report.converged && !trial_.last_rejection().empty())
+      report.message += "; the last trial state Newton could not use: " + trial_.last_rejection();
     timings_.analysis += report.seconds_analysis;
     timings_.factorization += report.seconds_factorization;
     timings_.solve += report.seconds_solve;

@@ -10,12 +10,14 @@
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/scene/scene.hpp"
+#include "talus/solver/failure_hints.hpp"
 #include "talus/solver/particle_share.hpp"
 
 #include <Eigen/Core>
 
 #include <algorithm>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace talus {
@@ -50,7 +52,12 @@ public:
     if (f_bar_)
       f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
     valid_ = false;
+    rejection_.clear();
   }
+
+  /// Why the step's last inadmissible trial state was refused (a material's message naming the
+  /// point and the quantity), empty when none was.
+  const std::string& last_rejection() const { return rejection_; }
 
   /// Whether the state is the share's at the increment du.
   bool matches(const ParticleShare& share, const Eigen::VectorXd& du) const {
@@ -85,12 +92,18 @@ public:
       F_[at(p)] = step_gradient(at(p)) * P.F[at(p)];
     });
     if (f_bar_ && !f_bar_step_.apply(
-                      share, P, [&](Index q) { return step_gradient(at(q)); }, F_))
+                      share, P, [&](Index q) { return step_gradient(at(q)); }, F_)) {
+      rejection_ = "F-bar: a cell's mean volume change was not positive";
       return false;
+    }
     try {
       for (std::size_t m = 0; m < scene_.materials.size(); ++m)
         scene_.materials[m]->response(points_of_material(m, share), F_, response_);
-    } catch (const NumericalError&) {
+    } catch (const PointFailure& e) {
+      rejection_ = e.what() + where_point_is(scene_, e.point());
+      return false;
+    } catch (const NumericalError& e) {
+      rejection_ = e.what();
       return false;
     }
     valid_ = true;
@@ -162,6 +175,7 @@ private:
   bool valid_ = false;  ///< dF_, F_, response_ hold share_ at du_
   ParticleShare share_; ///< the points the state was last evaluated for
   Eigen::VectorXd du_;
+  std::string rejection_; ///< see last_rejection
 };
 
 } // namespace talus

@@ -3,6 +3,7 @@
 // frames on the output schedule, timeseries.csv rows, the progress line, and the state guard's
 // stop. Times are the stage's own (from 0 at its start); frames and rows are written at the run's
 // time, the stage's start time plus the stage's time.
+#include "prescribed_columns.hpp"
 #include "run_state.hpp"
 #include "talus/io/progress.hpp"
 #include "talus/io/results.hpp"
@@ -78,9 +79,11 @@ std::vector<std::string> timeseries_columns(const Scene<Dim>& scene, bool stiffn
     if (face_constrained(scene.spec.boundaries, f))
       for (const char* a : axes<Dim>())
         cols.push_back(fmt::format("reaction_{}_{}", face_name(f), a));
-  for (const auto& region : scene.spec.prescribed)
+  for (const auto& region : scene.spec.prescribed) {
     for (const char* a : axes<Dim>())
       cols.push_back(fmt::format("reaction_{}_{}", region.name, a));
+    append_prescribed_columns(scene.spec, region, cols);
+  }
   for (const auto& name : scene.probe_names) {
     for (const char* a : axes<Dim>())
       cols.push_back(fmt::format("{}.{}", name, a));
@@ -135,10 +138,10 @@ template <int Dim> Index point_count(const Scene<Dim>& scene) {
 }
 
 template <int Dim>
-std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
-                                   const FaceReactions& reactions,
-                                   const std::vector<Vec3>& prescribed, double time, Index step,
-                                   double dt, std::size_t stage, const double* stiffness) {
+std::vector<double>
+timeseries_row(const Scene<Dim>& scene, const Energies& e, const FaceReactions& reactions,
+               const std::vector<Vec3>& prescribed, double prescribed_fraction, double time,
+               Index step, double dt, std::size_t stage, const double* stiffness) {
   std::vector<double> row = {time,      static_cast<double>(step),       dt, e.kinetic, e.strain,
                              e.gravity, e.kinetic + e.strain + e.gravity};
   for (int d = 0; d < Dim; ++d)
@@ -154,6 +157,7 @@ std::vector<double> timeseries_row(const Scene<Dim>& scene, const Energies& e,
     const Vec3 f = r < prescribed.size() ? prescribed[r] : Vec3::Zero();
     for (int d = 0; d < Dim; ++d)
       row.push_back(f[d]);
+    append_prescribed_values(scene.spec, scene.spec.prescribed[r], prescribed_fraction, f, row);
   }
   for (const ProbeReading& probe : probe_readings(scene)) {
     for (int d = 0; d < Dim; ++d)
@@ -183,6 +187,8 @@ template <int Dim> struct Recorder : FrameSchedule {
   std::vector<double> plastic_strain{}; ///< gathered from the materials' history per frame
   /// The current stiffness of a run that measures it (the time series' last column), or null.
   const double* current_stiffness = nullptr;
+  /// The fraction of their displacement the prescribed boxes have reached (implicit runs).
+  double prescribed_fraction = 0;
 
   /// Writes the current state as a frame, with the post-processing fields the case asks for:
   /// they are computed here, on output frames only.
@@ -245,8 +251,8 @@ template <int Dim> struct Recorder : FrameSchedule {
   /// The time-series row of the current state at the stage's time t.
   void append_row(const Energies& e, const FaceReactions& reactions,
                   const std::vector<Vec3>& prescribed, double t, Index step, double dt) {
-    series.append(timeseries_row<Dim>(scene, e, reactions, prescribed, stage_start_time + t, step,
-                                      dt, stage, current_stiffness));
+    series.append(timeseries_row<Dim>(scene, e, reactions, prescribed, prescribed_fraction,
+                                      stage_start_time + t, step, dt, stage, current_stiffness));
   }
 
   /// Stops the run (StateGuardError) when the guard found something; `when` says at which

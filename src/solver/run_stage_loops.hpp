@@ -308,6 +308,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
     log.stage(rec.stage, scene.spec.stages[rec.stage].name, rec.stage_start_time);
   Index newton_iterations = 0, linear_solves = 0, linear_iterations = 0, cutbacks = 0,
         max_iterations = 0;
+  rec.prescribed_fraction = solver->continuation().prescribed_fraction;
   if (s.step == 0)
     rec.append_row(solver->energies(), solver->reactions(), solver->prescribed_reactions(), 0, 0,
                    0);
@@ -389,9 +390,11 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       split_after_step(scene, *solver, result);
       move_points_to_owners(scene, *solver, result);
       steps.converged(r.iterations);
-      rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
-                     solver->prescribed_reactions(), fmt::format("newton {}", r.iterations));
       s.continuation = solver->continuation();
+      rec.prescribed_fraction = s.continuation.prescribed_fraction;
+      rec.after_step(s.step, s.t, step_dt, solver->energies(), solver->reactions(),
+                     solver->prescribed_reactions(),
+                     fmt::format("(the step took {} Newton iterations)", r.iterations));
       s.checkpoint_if_due();
       if (stage_ends || s.stopped)
         break;

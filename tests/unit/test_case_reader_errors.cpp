@@ -59,7 +59,7 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
   const std::string text = with(kCase, "youngs_modulus: 1.0e5", "youngs_modolus: 1.0e5");
   expect_error(text, {"case.yaml", 12, 5, "materials[0].youngs_modolus",
                       "unknown key 'youngs_modolus' (allowed keys here: name, model, density, "
-                      "youngs_modulus, poisson_ratio, kinematics, yield_stress, "
+                      "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
                       "hardening_modulus, cohesion, friction_angle, dilation_angle, residual); "
                       "did you mean 'youngs_modulus'?"});
   // Exact full message (format comes from SourceLocation::to_string()).
@@ -69,7 +69,7 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "case.yaml:12:5: key 'materials[0].youngs_modolus': unknown key "
                            "'youngs_modolus' (allowed keys here: name, model, density, "
-                           "youngs_modulus, poisson_ratio, kinematics, yield_stress, "
+                           "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
                            "hardening_modulus, cohesion, friction_angle, dilation_angle, "
                            "residual); did you mean 'youngs_modulus'?");
   }

@@ -33,6 +33,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// A material could not evaluate one of its points (det F <= 0, a return map that failed): the
+/// message names the material, the point and the quantity; point() lets the caller add where
+/// the point is.
+class PointFailure : public NumericalError {
+public:
+  PointFailure(long long point, const std::string& what) : NumericalError(what), point_(point) {}
+  long long point() const { return point_; }
+
+private:
+  long long point_;
+};
+
 /// Newton did not converge at the smallest load step an implicit analysis allows.
 class NewtonStall : public NumericalError {
 public:

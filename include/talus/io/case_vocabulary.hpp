@@ -23,7 +23,8 @@ const Choices<StrengthReductionFlow>& strength_reduction_flow_choices(); ///< it
 /// bodies[i].shape of a 2D case (rectangle, disc, polygon) or a 3D one (box, sphere, cylinder,
 /// prism).
 const Choices<BodyShape>& body_shape_choices(int dimension);
-const Choices<OutputField>& output_field_choices(); ///< output.fields
+const Choices<OutputField>& output_field_choices();             ///< output.fields
+const Choices<PlausibilityCheck>& plausibility_check_choices(); ///< silence_warnings
 
 /// The words of a table, in its order.
 template <class E> std::vector<std::string> choice_names(const Choices<E>& choices) {

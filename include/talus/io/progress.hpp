@@ -4,9 +4,29 @@
 #include "talus/core/types.hpp"
 
 #include <chrono>
+#include <deque>
 #include <string>
+#include <utility>
 
 namespace talus {
+
+/// The time a run has left, from its progress so far. It extrapolates the rate of the last
+/// quarter of the run rather than the average: an implicit run's steps get dearer as the soil
+/// yields (more Newton iterations, cut-backs near a limit load), and an explicit run's cheaper
+/// once its start-up is behind it.
+class EtaEstimator {
+public:
+  /// The run is `fraction` (0 to 1) done after `elapsed` seconds.
+  void add(double fraction, double elapsed);
+  /// Seconds left, or -1 before there is a rate.
+  double remaining_seconds() const;
+
+private:
+  /// (fraction, elapsed) at least half a per cent apart, over the last quarter of the run and
+  /// from the run's start until a quarter is done.
+  std::deque<std::pair<double, double>> samples_{{0.0, 0.0}};
+  std::pair<double, double> latest_{0.0, 0.0};
+};
 
 class Progress {
 public:
@@ -22,6 +42,7 @@ private:
   bool terminal_;
   std::chrono::steady_clock::time_point start_, last_draw_;
   int next_decile_ = 1;
+  EtaEstimator eta_;
 };
 
 } // namespace talus

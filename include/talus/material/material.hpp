@@ -2,6 +2,7 @@
 // Constitutive models. A model is evaluated for a whole batch of particles per call (one
 // virtual call per material per step, never per particle). Kinematics enter as the full 3x3
 // deformation gradient the particles carry (plane strain: the in-plane block with F33 = 1).
+#include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/core/types.hpp"
 #include "talus/material/stress_tangent.hpp"
@@ -82,6 +83,20 @@ private:
 
 /// The batch loop shared by the elastic laws, whose stress depends on F alone: Law::stress is
 /// called directly (no virtual call per particle).
+/// Evaluates point p of a material's batch: a NumericalError of the model becomes a PointFailure
+/// naming the material and the point, so a failed step says where it went wrong.
+template <class F>
+decltype(auto) evaluate_point(const std::string& material, std::size_t p, F&& evaluate) {
+  try {
+    return evaluate();
+  } catch (const PointFailure&) {
+    throw;
+  } catch (const NumericalError& e) {
+    throw PointFailure(static_cast<long long>(p),
+                       "material '" + material + "', point " + std::to_string(p) + ": " + e.what());
+  }
+}
+
 template <class Law> class ElasticMaterial : public Material {
 public:
   using Material::Material;
@@ -90,7 +105,7 @@ public:
     const auto& law = static_cast<const Law&>(*this);
     parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-      stress_out[p] = law.stress(F[p]);
+      stress_out[p] = evaluate_point(law.name(), p, [&] { return law.stress(F[p]); });
     });
   }
   double stored_energy(std::span<const Index> ids, std::span<const Mat3> F,
@@ -106,7 +121,7 @@ public:
     const auto& law = static_cast<const Law&>(*this);
     parallel_for(static_cast<Index>(ids.size()), [&](Index k) {
       const auto p = static_cast<std::size_t>(ids[static_cast<std::size_t>(k)]);
-      out[p] = law.response(F[p]);
+      out[p] = evaluate_point(law.name(), p, [&] { return law.response(F[p]); });
     });
   }
 };

@@ -6,6 +6,7 @@
 #include "talus/core/types.hpp"
 
 #include <array>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +52,18 @@ inline bool is_plastic(MaterialModel m) {
          m == MaterialModel::MohrCoulomb || m == MaterialModel::DruckerPrager;
 }
 
+/// The plausibility checks of a case (talus/io/plausibility.hpp): each warns about a magnitude
+/// far from what soils and rocks have, and `silence_warnings` names the ones a case accepts.
+enum class PlausibilityCheck {
+  Density,
+  YoungsModulus,
+  Strength,
+  FrictionAngle,
+  Load,
+  Gravity,
+  Displacement
+};
+
 /// Softening of c and phi with accumulated plastic shear strain (mohr_coulomb, drucker_prager).
 struct ResidualStrengthSpec {
   double cohesion = 0;       ///< Pa, >= 0
@@ -92,9 +105,9 @@ struct GridSpec {
 struct MaterialSpec {
   std::string name;                                   ///< required, unique
   MaterialModel model = MaterialModel::LinearElastic; ///< required
-  double density = 0;                                 ///< kg/m^3, > 0 (required)
-  double youngs_modulus = 0;                          ///< Pa, > 0 (required)
-  double poisson_ratio = 0;                           ///< -, in (-1, 0.5) (required)
+  double density = 0;        ///< kg/m^3, > 0 (required; or unit_weight / |g| when that is given)
+  double youngs_modulus = 0; ///< Pa, > 0 (required)
+  double poisson_ratio = 0;  ///< -, in (-1, 0.5) (required)
   // --- elasto-plastic models (docs/case-format.md, materials) ---
   bool small_strain = false;    ///< kinematics: small_strain (else finite_strain, Hencky)
   double yield_stress = 0;      ///< von_mises, Pa
@@ -144,7 +157,7 @@ struct BodySpec {
     enum class Kind { Geostatic, Uniform } kind = Kind::Geostatic;
     /// geostatic: sigma_yy = -rho |g| (surface - y), sigma_xx = sigma_zz = k0 sigma_yy
     double surface = 0;       ///< m, y of the free surface (default: the body's top)
-    std::optional<double> k0; ///< default nu / (1 - nu)
+    std::optional<double> k0; ///< default nu / (1 - nu); `k0: jaky` gives 1 - sin(phi)
     /// uniform: the Cauchy stress, Pa (2D files give sigma_xx, sigma_yy, sigma_xy, sigma_zz)
     Mat3 stress = Mat3::Zero();
     /// The value the stress follows from (uniform: stress; geostatic: k0, or the section), for
@@ -373,6 +386,11 @@ struct CaseSpec {
   /// Staged analysis; empty: one stage of `analysis` over `time`. When given, `analysis` and
   /// `time` above are the first stage's.
   std::vector<StageSpec> stages;
+  /// The plausibility warnings this case accepts (`silence_warnings`).
+  std::vector<PlausibilityCheck> silenced_warnings;
+  /// Where each value of a map in the case file sat, by key path ("materials[0].cohesion"), for
+  /// messages about the case after it was read.
+  std::map<std::string, SourceLocation> locations;
 };
 
 } // namespace talus
