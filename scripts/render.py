@@ -7,13 +7,17 @@ resolved to datasets and columns:
     /usr/bin/python3 scripts/render.py RUN.h5 --frames 0 5 9 -o OUT.png
         (--dataset stress --column 1 --label "stress xy [Pa]" | --pattern checker)
         [--mode voxels|points] [--sequence] [--slice z=0.5 | --view iso|x|y|z]
+        [--clim LO HI] [--log] [--crop X0 Y0 X1 Y1] [--delta]
 
 One PNG per frame: OUT.png for a single frame; with --sequence OUT_000000.png, OUT_000005.png,
 ... named by frame number, all with the same colour range so the sequence can be animated.
 Axes are in model units (m); the title gives the case, the field and the frame's time.
 A 3D run (3-column positions) is drawn as a slice (--slice: the voxels or points the plane
 cuts, in the plane's axes) or as the outer faces of its voxels (or its points) seen from --view;
-the geometry is scripts/render3d.py's.
+the geometry is scripts/render3d.py's. --clim fixes the colour range, --log makes the colour
+scale logarithmic (values at or below zero take the lowest colour), --crop draws only the box
+(X0, Y0)-(X1, Y1) of the picture's axes at the figure's full size, and --delta colours each
+point by its change from frame 0.
 """
 
 import argparse
@@ -29,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.cm import ScalarMappable  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
-from matplotlib.colors import ListedColormap, Normalize  # noqa: E402
+from matplotlib.colors import ListedColormap, LogNorm, Normalize  # noqa: E402
 
 import render3d  # noqa: E402
 
@@ -58,15 +62,22 @@ class Picture:
 
 
 def frame_values(group, args):
-    """The colour value of every particle of a frame."""
+    """The colour value of every particle of a frame (less frame 0's with --delta)."""
     if args.pattern:
         return group["voxels"][args.pattern][()].astype(float)
     data = group[args.dataset][()]
+    if args.delta:
+        data = data - args.base  # talus render checked that the frames have the same points
     if data.ndim == 1:
         return data.astype(float)
     if args.column == "norm":
         return np.linalg.norm(data, axis=1)
     return data[:, int(args.column)]
+
+
+def norm(limits, args):
+    """The colour scale: linear, or logarithmic with --log."""
+    return LogNorm(*limits) if args.log else Normalize(*limits)
 
 
 def frame_shapes(group, mode):
@@ -159,6 +170,8 @@ def axis_triad(ax, view):
 
 def draw(group, frame, pic, limits, args, case):
     lo, hi = pic.lo, pic.hi
+    if args.crop:
+        lo, hi = np.array(args.crop[:2]), np.array(args.crop[2:])
     # The figure follows the body's aspect ratio; a slender body gets its colour bar below.
     aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
     wide = aspect < 0.5
@@ -167,20 +180,19 @@ def draw(group, frame, pic, limits, args, case):
     cmap = PATTERN_COLOURS if args.pattern else "viridis"
     if pic.polygons is not None and pic.shade is None:
         art = PolyCollection(pic.polygons, array=pic.values, cmap=cmap, edgecolors="face",
-                             linewidths=0.2)
-        art.set_clim(*limits)
+                             linewidths=0.2, norm=norm(limits, args))
         ax.add_collection(art)
     elif pic.polygons is not None:
         # Lit faces: the colour map's colour darkened by the face's turn away from the light.
-        art = ScalarMappable(Normalize(*limits), plt.get_cmap(cmap))
+        art = ScalarMappable(norm(limits, args), plt.get_cmap(cmap))
         colours = art.to_rgba(pic.values)
         colours[:, :3] *= pic.shade[:, None]
         ax.add_collection(PolyCollection(pic.polygons, facecolors=colours, edgecolors=colours,
                                          linewidths=0.2))
     else:
         art = ax.scatter(pic.points[:, 0], pic.points[:, 1], c=pic.values, cmap=cmap, s=4,
-                         linewidths=0, vmin=limits[0], vmax=limits[1])
-    pad = 0.03 * max(hi - lo) + (0.5 * pic.spacing if pic.spacing else 0.0)  # dots' radius
+                         linewidths=0, norm=norm(limits, args))
+    pad = 0 if args.crop else 0.03 * max(hi - lo) + (0.5 * pic.spacing if pic.spacing else 0.0)
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     if pic.invert[0]:
@@ -197,8 +209,9 @@ def draw(group, frame, pic, limits, args, case):
         ax.set_ylabel(pic.labels[1])
     time = float(group.attrs["time"])
     what = f"{args.pattern} pattern" if args.pattern else args.label
-    title = f"{case}: {what}, t = {time:.6g} s (frame {frame})"
-    ax.set_title(f"{title}\n{pic.note}" if pic.note else title)
+    # Two short lines rather than one long one: a narrow figure would clip it.
+    title = f"{case}: {what}\nt = {time:.6g} s (frame {frame})"
+    ax.set_title(f"{title}, {pic.note}" if pic.note else title, fontsize=11)
     if not args.pattern:  # a pattern is two dummy colours, nothing to read off a bar
         bar = fig.colorbar(art, ax=ax, label=args.label,
                            orientation="horizontal" if wide else "vertical",
@@ -231,6 +244,10 @@ def main():
     ap.add_argument("--dpi", type=int, default=150)
     ap.add_argument("--axisymmetric", action="store_true",
                     help="an axisymmetric run: the axes are r and z")
+    ap.add_argument("--clim", type=float, nargs=2, help="the colour range LO HI")
+    ap.add_argument("--log", action="store_true", help="a logarithmic colour scale")
+    ap.add_argument("--crop", type=float, nargs=4, help="X0 Y0 X1 Y1 of the picture's axes")
+    ap.add_argument("--delta", action="store_true", help="the change from frame 0")
     ap.add_argument("-o", "--output", required=True)
     args = ap.parse_args()
     if bool(args.dataset) == bool(args.pattern):
@@ -242,11 +259,16 @@ def main():
             units = f["frames"][f"{args.frames[0]:06d}"][args.dataset].attrs.get("units", "1")
             if units != "1":
                 args.label += f" [{units}]"
+        if args.delta:
+            args.base = f["frames"]["000000"][args.dataset][()]
+            args.label = "change of " + args.label + " since frame 0"
         # The values drawn (a slice's, the outer faces'), kept over the frames for one colour
         # range; the geometry is built again when drawn so only one frame's is held at a time.
         values = {k: drawn_values(f["frames"][f"{k:06d}"], args) for k in args.frames}
         if args.pattern:
             limits = (0.0, 1.0)
+        elif args.clim:
+            limits = tuple(args.clim)
         else:
             # One colour range for all frames: a sequence reads as one animation.
             drawn = [v for v in values.values() if v.size] or [np.zeros(1)]
@@ -254,6 +276,12 @@ def main():
             hi = max(float(v.max()) for v in drawn)
             if hi - lo <= 1e-12 * max(abs(lo), abs(hi), 1e-300):
                 lo, hi = lo - 0.5 * max(abs(lo), 1.0), hi + 0.5 * max(abs(hi), 1.0)
+            if args.log:  # the smallest positive value drawn: a log scale cannot start at 0
+                positive = [float(v[v > 0].min()) for v in drawn if (v > 0).any()]
+                if not positive:
+                    sys.exit("render.py: --log needs positive values; the field has none here")
+                lo = min(positive)
+                hi = max(hi, lo * 10)
             limits = (lo, hi)
         for k in args.frames:
             group = f["frames"][f"{k:06d}"]

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -120,6 +121,64 @@ void check_plane_meets(const ResultsReader& reader, const std::vector<Index>& fr
                              axis, lo, hi));
 }
 
+/// Whether the field's drawn values (a column, or the norm of each row) have a positive one in
+/// some selected frame: a log scale starts there.
+bool any_positive(const ResultsReader& reader, const std::vector<Index>& frames,
+                  const std::string& field, const std::string& column) {
+  for (const Index k : frames) {
+    Index rows = 0, columns = 0;
+    const std::vector<double> data = reader.read(k, field, &rows, &columns);
+    for (Index r = 0; r < rows; ++r) {
+      const double* row = data.data() + r * columns;
+      double v = 0;
+      if (column == "norm")
+        v = std::sqrt(std::inner_product(row, row + columns, row, 0.0));
+      else
+        v = row[column.empty() ? 0 : std::stoi(column)];
+      if (v > 0)
+        return true;
+    }
+  }
+  return false;
+}
+
+/// The slice that shows what changed in a 3D run: z through the point that moved the most
+/// from frame 0 to `frame` (the same point ids: the points of frame 0 that are still there).
+Plane slice_through_largest_change(const ResultsReader& reader, Index frame) {
+  Index rows0 = 0, rows = 0, columns = 0;
+  const std::vector<double> x0 = reader.read(0, "position", &rows0, &columns);
+  const std::vector<double> x = reader.read(frame, "position", &rows, &columns);
+  double largest = -1, z = 0;
+  for (Index r = 0; r < std::min(rows0, rows); ++r) {
+    const auto at = static_cast<std::size_t>(r * columns);
+    const double moved = std::hypot(x[at] - x0[at], x[at + 1] - x0[at + 1], x[at + 2] - x0[at + 2]);
+    if (moved > largest) {
+      largest = moved;
+      z = x[at + 2];
+    }
+  }
+  return {2, z};
+}
+
+/// --clim LO HI (LO < HI, finite; LO > 0 for --log) and --crop X0 Y0 X1 Y1 (X0 < X1, Y0 < Y1).
+void check_ranges(const RenderOptions& o) {
+  if (!o.clim.empty() && !(o.clim.size() == 2 && std::isfinite(o.clim[0]) &&
+                           std::isfinite(o.clim[1]) && o.clim[0] < o.clim[1]))
+    bad("--clim", "expected two finite values LO HI with LO < HI");
+  if (o.log && !o.clim.empty() && !(o.clim[0] > 0))
+    bad("--clim", fmt::format("a logarithmic scale (--log) needs LO > 0, got {:g}", o.clim[0]));
+  if (!o.crop.empty() && !(o.crop.size() == 4 && o.crop[0] < o.crop[2] && o.crop[1] < o.crop[3]))
+    bad("--crop", "expected X0 Y0 X1 Y1 with X0 < X1 and Y0 < Y1");
+  if (o.log && o.delta && o.clim.empty())
+    bad("--log", "a change since frame 0 has both signs: give --clim LO HI with LO > 0 for a log "
+                 "scale of it");
+  if (!o.pattern.empty() && (o.log || o.delta || !o.clim.empty()))
+    bad(o.log     ? "--log"
+        : o.delta ? "--delta"
+                  : "--clim",
+        "a pattern has two colours and no scale; --clim, --log and --delta colour a --field");
+}
+
 } // namespace
 
 int render(const RenderOptions& o) {
@@ -164,9 +223,16 @@ int render(const RenderOptions& o) {
   if (!o.view.empty() && !o.slice.empty())
     bad("--view", "a slice is drawn in its plane; --view directs the outer-face view, without "
                   "--slice");
-  const Plane plane = o.slice.empty() ? Plane{} : parse_slice(o.slice);
-
+  check_ranges(o);
   const std::vector<Index> frames = selected_frames(o.frame, reader->frame_count());
+  // A 3D run without --slice or --view: the slice through the largest change, not the outer
+  // faces, where a footing's block looks the same before and after.
+  const bool changed_slice = three_d && o.slice.empty() && o.view.empty();
+  const Plane plane = !o.slice.empty() ? parse_slice(o.slice)
+                      : changed_slice  ? slice_through_largest_change(*reader, frames.back())
+                                       : Plane{};
+  if (!o.crop.empty() && o.view == "iso")
+    bad("--crop", "the iso view has no model axes to crop in; use --slice or --view x, y or z");
   bool all_have_voxels = true;
   for (const Index k : frames)
     all_have_voxels = all_have_voxels && reader->frame_has(k, "voxels");
@@ -218,8 +284,22 @@ int render(const RenderOptions& o) {
       label += " " + o.component;
     }
     args.insert(args.end(), {"--dataset", o.field, "--column", column, "--label", label});
+    if (o.delta)
+      for (const Index k : frames) {
+        Index rows0 = 0, rows_k = 0, c = 0;
+        reader->read(0, o.field, &rows0, &c);
+        reader->read(k, o.field, &rows_k, &c);
+        if (rows0 != rows_k)
+          bad("--delta", fmt::format("frame {} has {} points and frame 0 {} (points split): a "
+                                     "change since frame 0 needs the same points",
+                                     k, rows_k, rows0));
+      }
+    if (o.log && o.clim.empty() && !o.delta && !any_positive(*reader, frames, o.field, column))
+      bad("--log", fmt::format("field '{}' has no positive value in the frames drawn; a log scale "
+                               "needs some (or give --clim LO HI)",
+                               label));
   }
-  if (!o.slice.empty()) {
+  if (!o.slice.empty() || changed_slice) {
     check_plane_meets(*reader, frames, mode == "voxels" ? "voxels/corners" : "position", plane);
     args.insert(args.end(), {"--slice", fmt::format("{}={:.17g}", "xyz"[plane.axis], plane.value)});
   } else if (three_d) {
@@ -227,6 +307,18 @@ int render(const RenderOptions& o) {
   }
   if (axisymmetric)
     args.push_back("--axisymmetric");
+  if (!o.clim.empty())
+    args.insert(args.end(),
+                {"--clim", fmt::format("{:.17g}", o.clim[0]), fmt::format("{:.17g}", o.clim[1])});
+  if (o.log)
+    args.push_back("--log");
+  if (o.delta)
+    args.push_back("--delta");
+  if (!o.crop.empty()) {
+    args.push_back("--crop");
+    for (const double c : o.crop)
+      args.push_back(fmt::format("{:.17g}", c));
+  }
   args.insert(args.end(), {"--mode", mode, "-o", o.output.string()});
   if (o.frame == "all")
     args.push_back("--sequence");

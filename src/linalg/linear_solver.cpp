@@ -100,6 +100,16 @@ LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long lon
   return symmetric ? LinearSolverKind::Cholmod : LinearSolverKind::Umfpack;
 }
 
+LinearSolverKind implicit_linear_solver(const std::string& chosen, bool symmetric, int dimension,
+                                        long long unknowns) {
+  if (chosen.empty())
+    return automatic_linear_solver(symmetric, dimension, unknowns);
+  LinearSolverKind kind;
+  if (!parse_linear_solver_kind(chosen, kind))
+    throw std::invalid_argument("unknown linear solver " + chosen);
+  return kind;
+}
+
 std::vector<std::string> available_linear_solvers() {
   std::vector<std::string> names;
   for (const auto& [kind, name] : kNames) {

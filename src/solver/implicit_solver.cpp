@@ -287,15 +287,10 @@ private:
   /// and F-bar make the tangent nonsymmetric: Cholesky cannot take it, LU can (the case reader
   /// refuses an explicit symmetric-only choice).
   LinearSolverKind serial_linear_solver_kind(bool symmetric) {
-    const std::string& chosen = scene_.spec.solver.linear_solver;
-    LinearSolverKind kind;
-    if (!chosen.empty()) {
-      if (!parse_linear_solver_kind(chosen, kind))
-        throw std::invalid_argument("unknown linear solver " + chosen);
-      return kind;
-    }
-    step_.map.update(scene_.grid, scene_.particles);
-    return automatic_linear_solver(symmetric, Dim, Dim * step_.map.node_count());
+    if (scene_.spec.solver.linear_solver.empty())
+      step_.map.update(scene_.grid, scene_.particles);
+    return implicit_linear_solver(scene_.spec.solver.linear_solver, symmetric, Dim,
+                                  Dim * step_.map.node_count());
   }
 
   /// The step's out-of-balance force and nodal increments (implicit_residual.hpp).

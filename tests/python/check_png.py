@@ -6,6 +6,8 @@ that a file exists.
     /usr/bin/python3 tests/python/check_png.py field OUT.png     # a field in the viridis map
     /usr/bin/python3 tests/python/check_png.py drawn OUT.png     # points in the viridis map
     /usr/bin/python3 tests/python/check_png.py shaded OUT.png    # lit 3D faces, coloured
+    /usr/bin/python3 tests/python/check_png.py lowest OUT.png    # one colour: the map's lowest
+    /usr/bin/python3 tests/python/check_png.py one OUT.png       # one colour of the map
     /usr/bin/python3 tests/python/check_png.py differ A.png B.png
 
 Only the axes are looked at (the box inside the dark spines, the widest of the boxes the
@@ -16,7 +18,11 @@ at least 20 distinct colours of matplotlib's viridis map cover at least 2 % of t
 points or voxels are drawn and coloured by a varying field). drawn: viridis colours cover at
 least 0.5 % of the axes (dots of a uniform field are drawn). shaded: at least 20 distinct
 coloured (not grey: channels spread by 40 or more of 255) colours cover at least 2 % of the
-axes (3D faces are the map's colours darkened by their lighting, so not the map's own). differ:
+axes (3D faces are the map's colours darkened by their lighting, so not the map's own). lowest:
+viridis's lowest colour covers at least 2 % of the axes and the rest of the map (its colours
+past the first 8 of 256) less than a tenth of that (a field below --clim, a change that is
+zero); one: the same for the map's most common colour and the map's colours more than 8 of
+256 away from it (a uniform field in the middle of its range). differ:
 the two pictures are not the same image (frames of a moving body).
 Exits 0 when the picture holds, 1 with a message otherwise.
 """
@@ -99,6 +105,24 @@ def check_shaded(path):
     print(f"check_png: {path}: {distinct} coloured colours over {covered:.3f}")
 
 
+def check_one(path, lowest_only):
+    pixels = axes_pixels(path)
+    table = np.round(colormaps["viridis"](np.linspace(0, 1, 256))[:, :3] * 255).astype(np.int32)
+    colours, counts = np.unique(pixels, axis=0, return_counts=True)
+    nearest = np.abs(colours[:, None, :] - table[None, :, :]).sum(axis=2)
+    in_map = nearest.min(axis=1) <= 3
+    index = nearest.argmin(axis=1)
+    if lowest_only or not in_map.any():
+        dominant = 0
+    else:
+        dominant = index[in_map][np.argmax(counts[in_map])]
+    one = counts[in_map & (index == dominant)].sum() / len(pixels)
+    rest = counts[in_map & (np.abs(index - dominant) > 8)].sum() / len(pixels)
+    if one < 0.02 or rest >= 0.1 * one:
+        fail(f"{path}: colour {dominant} of the map covers {one:.3f}, the rest of it {rest:.3f}")
+    print(f"check_png: {path}: colour {dominant} of the map over {one:.3f}, the rest {rest:.4f}")
+
+
 def check_differ(a, b):
     pa, pb = rgb(a).reshape(-1, 3), rgb(b).reshape(-1, 3)
     if pa.shape == pb.shape and np.array_equal(pa, pb):
@@ -115,6 +139,8 @@ def main():
         check_field(sys.argv[2], min_colours=1, min_cover=0.005)
     elif len(sys.argv) == 3 and sys.argv[1] == "shaded":
         check_shaded(sys.argv[2])
+    elif len(sys.argv) == 3 and sys.argv[1] in ("lowest", "one"):
+        check_one(sys.argv[2], sys.argv[1] == "lowest")
     elif len(sys.argv) == 4 and sys.argv[1] == "differ":
         check_differ(sys.argv[2], sys.argv[3])
     else:

@@ -219,6 +219,21 @@ TEST_F(CliWarnings, LoadsThatReachNoMaterialAndMisusedKeysAreErrors) {
   }
 }
 
+// talus check names the linear solver the run will use, from the tangent's symmetry: a
+// non-associated Mohr-Coulomb soil (psi = 0 < phi) needs LU, an associated one Cholesky.
+TEST_F(CliWarnings, CheckNamesTheLinearSolverAndARoughRunTime) {
+  write_file(work() / "case.yaml", kCase);
+  const Outcome lu = talus({"check", "case.yaml", "--threads", "2"});
+  ASSERT_EQ(lu.exit_code, 0) << lu.describe();
+  for (const char* part : {"solver    umfpack (nonsymmetric tangent), about ", " unknowns",
+                           "run time  under a second (2 load steps of ", "on 2 threads"})
+    EXPECT_NE(lu.out.find(part), std::string::npos) << part << "\n" << lu.describe();
+  const Outcome cholesky =
+      talus({"check", "case.yaml", "--set", "materials.clay.dilation_angle=30"});
+  EXPECT_NE(cholesky.out.find("solver    cholmod (symmetric tangent)"), std::string::npos)
+      << cholesky.describe();
+}
+
 // unit_weight is gamma = rho |g| exactly, and Jaky's K0 is 1 - sin(phi).
 TEST(GeotechnicalVocabulary, UnitWeightAndJaky) {
   const talus::CaseSpec weight = talus::read_case_text(

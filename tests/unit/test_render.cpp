@@ -91,6 +91,42 @@ TEST_F(Render, DrawsVoxelsByFieldAndByPattern) {
   EXPECT_TRUE(picture_holds("pattern", {pattern}));
 }
 
+// The colour scale's options, each against what it must show: a range above every value draws
+// the map's lowest colour only, the change of frame 0 from itself one colour, while the change
+// of the last frame varies; a log scale and a crop draw a picture of their own.
+TEST_F(Render, ColourRangeLogCropAndChange) {
+  const auto draw = [&](const std::string& options, const char* name) {
+    const fs::path out = dir_ / name;
+    EXPECT_EQ(
+        talus("render " + h5("voxels") + " " + options + " -o '" + out.string() + "'").exit_code, 0)
+        << options;
+    return out;
+  };
+  const fs::path plain = draw("--field stress --component xy", "plain.png");
+  const fs::path above = draw("--field stress --component xy --clim 1e12 2e12", "above.png");
+  EXPECT_TRUE(picture_holds("field", {plain}));
+  EXPECT_TRUE(picture_holds("lowest", {above}));
+  EXPECT_FALSE(picture_holds("lowest", {plain}));
+  EXPECT_FALSE(picture_holds("one", {plain}));
+  EXPECT_TRUE(picture_holds(
+      "one", {draw("--field stress --component xy --delta --frame 0", "delta0.png")}));
+  EXPECT_TRUE(picture_holds("field", {draw("--field stress --component xy --delta", "delta.png")}));
+  const fs::path log = draw("--field velocity --log", "log.png");
+  EXPECT_TRUE(picture_holds("drawn", {log}));
+  const fs::path crop = draw("--field stress --component xy --crop 0 0 0.5 0.5", "crop.png");
+  EXPECT_TRUE(picture_holds("field", {crop}));
+  EXPECT_TRUE(picture_holds("differ", {plain, crop}));
+  for (const char* bad :
+       {"--field stress --component xy --clim 2 1",
+        "--field stress --component xy --log --clim 0 1",
+        "--field stress --component xy --crop 1 1 0 0", "--pattern checker --log"}) {
+    const Outcome r =
+        talus("render " + h5("voxels") + " " + bad + " -o '" + (dir_ / "bad.png").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.stderr_text;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.png")) << bad;
+  }
+}
+
 TEST_F(Render, FrameAllWritesANumberedSequence) {
   const fs::path out = dir_ / "seq" / "v.png";
   ASSERT_EQ(talus("render " + h5("plain") + " --field velocity --mode points --frame all -o '" +
@@ -206,7 +242,9 @@ TEST_F(Render3D, SlicesAndOuterFacesAreDrawn) {
       {"--field stress --component xy --slice z=0.25", "slice_z.png", "field"},
       {"--field velocity --component magnitude --slice x=0.3", "slice_x.png", "field"},
       {"--field stress --component xy --mode points --slice y=0.3", "slice_points.png", "drawn"},
-      {"--field stress --component xy", "faces_iso.png", "shaded"},
+      {"--field stress --component xy --view iso", "faces_iso.png", "shaded"},
+      // Without --slice or --view: the slice through the point that moved the most.
+      {"--field stress --component xy", "changed.png", "field"},
       {"--field velocity --component z --view y", "faces_y.png", "shaded"},
       {"--pattern checker --view z", "checker_z.png", "shaded"},
   };

@@ -7,6 +7,7 @@
 // colour bars and axes that a raw drawing library (cairo) would need written by hand.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace talus {
 
@@ -18,8 +19,14 @@ struct RenderOptions {
   std::string pattern;           ///< "checker", "stripes_horizontal" or "stripes_vertical"
   std::string mode;              ///< "voxels" or "points"; empty: voxels when written
   std::string slice;             ///< 3D only: "z=0.5" (x, y or z); empty: the outer-face view
-  std::string view;              ///< 3D outer-face view: "iso", "x", "y" or "z"; empty: iso
-  std::filesystem::path output;  ///< OUT.png; with frame "all": OUT_000000.png, ...
+  /// 3D outer-face view: "iso", "x", "y" or "z"; empty (and no slice): the slice z = const
+  /// through the point that moved the most, which shows what changed
+  std::string view;
+  std::vector<double> clim;     ///< the colour range {lo, hi}; empty: the values' range
+  bool log = false;             ///< a logarithmic colour scale
+  std::vector<double> crop;     ///< {x0, y0, x1, y1} of the picture's axes; empty: everything
+  bool delta = false;           ///< colour by the change since frame 0
+  std::filesystem::path output; ///< OUT.png; with frame "all": OUT_000000.png, ...
 };
 
 /// Validates the request, then draws; returns the exit code (0).

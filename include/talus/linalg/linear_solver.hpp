@@ -84,6 +84,11 @@ inline constexpr long long kIterativeUnknowns3d = 10000;
 /// trilinos_gmres when the binary has Trilinos.
 LinearSolverKind automatic_linear_solver(bool symmetric, int dimension, long long unknowns);
 
+/// The backend an implicit run uses on one rank: `chosen` (a case's solver.linear_solver), or
+/// automatic_linear_solver when it is empty. Throws std::invalid_argument for an unknown name.
+LinearSolverKind implicit_linear_solver(const std::string& chosen, bool symmetric, int dimension,
+                                        long long unknowns);
+
 /// Throws std::invalid_argument for a kind not built into this binary.
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverOptions& options);
 
