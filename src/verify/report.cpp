@@ -153,7 +153,9 @@ void write_reports(const fs::path& dir, const std::string& tier,
   md << "# Talus verification report (tier " << tier << ")\n\n"
      << "Overall: " << (t.all_held() ? "**PASS**" : "**FAIL**") << " (" << summary_line(t)
      << ")\n\n"
-     << kColumnLegend << "\n\n";
+     << kColumnLegend << "\n\n"
+     << "What each case asserts, and why its bounds are what they are: "
+     << (verification_dir().parent_path() / "docs" / "verification.md").string() << "\n\n";
   if (t.known_failures + t.unexpected_passes > 0) {
     md << "Known defects:\n\n";
     for (const auto& o : outcomes)
