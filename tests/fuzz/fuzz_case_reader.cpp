@@ -420,5 +420,21 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(o.seed), seconds, inputs, tally.refused, tally.parsed, b[0],
       b[1], b[2], kStepsPerMutant, st[0], st[1], st[2], tally.steps, tally.numerical_failures,
       tally.cli_runs, slowest, failures);
-  return failures == 0 ? 0 : 1;
+  // A run that stepped no mutant of some geometry, or sent none through the binary, tested
+  // nothing there: it fails rather than pass on an empty sample (30 s steps about 30 plane
+  // strain, 6 axisymmetric and 6 3D mutants).
+  bool covered = true;
+  for (int g = 0; g < 3; ++g)
+    if (st[g] == 0) {
+      std::fprintf(stderr, "fuzz: FAILURE: no %s mutant was stepped\n",
+                   g == 0   ? "plane strain"
+                   : g == 1 ? "axisymmetric"
+                            : "3D");
+      covered = false;
+    }
+  if (!o.talus.empty() && o.cli_every > 0 && tally.cli_runs == 0) {
+    std::fprintf(stderr, "fuzz: FAILURE: no input went through talus check\n");
+    covered = false;
+  }
+  return failures == 0 && covered ? 0 : 1;
 }
