@@ -178,6 +178,8 @@ def draw(group, frame, pic, limits, args, case):
     fig, ax = plt.subplots(figsize=(9, min(9, max(3.5, 9 * aspect + (2.2 if wide else 0.8)))),
                            dpi=args.dpi)
     cmap = PATTERN_COLOURS if args.pattern else "viridis"
+    if args.log:  # a log scale masks values at or below zero; they take the lowest colour
+        pic.values = np.maximum(pic.values, limits[0])
     if pic.polygons is not None and pic.shade is None:
         art = PolyCollection(pic.polygons, array=pic.values, cmap=cmap, edgecolors="face",
                              linewidths=0.2, norm=norm(limits, args))
