@@ -34,6 +34,7 @@ import numpy as np  # noqa: E402
 from matplotlib.cm import ScalarMappable  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.colors import ListedColormap, LogNorm, Normalize  # noqa: E402
+from mpl_toolkits.axes_grid1 import make_axes_locatable  # noqa: E402
 
 import render3d  # noqa: E402
 
@@ -172,11 +173,13 @@ def draw(group, frame, pic, limits, args, case):
     lo, hi = pic.lo, pic.hi
     if args.crop:
         lo, hi = np.array(args.crop[:2]), np.array(args.crop[2:])
-    # The figure follows the body's aspect ratio; a slender body gets its colour bar below.
+    # The figure follows the body's aspect ratio, 9 inches along its longer side; a slender body
+    # gets its colour bar below. What is left around the axes is cut when the figure is saved.
     aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
     wide = aspect < 0.5
-    fig, ax = plt.subplots(figsize=(9, min(9, max(3.5, 9 * aspect + (2.2 if wide else 0.8)))),
-                           dpi=args.dpi)
+    size = ((9, min(9, max(3.5, 9 * aspect + (2.2 if wide else 0.8)))) if aspect <= 1
+            else (min(9, max(4.5, 9 / aspect + 2.0)), 9))
+    fig, ax = plt.subplots(figsize=size, dpi=args.dpi)
     cmap = PATTERN_COLOURS if args.pattern else "viridis"
     if args.log:  # a log scale masks values at or below zero; they take the lowest colour
         pic.values = np.maximum(pic.values, limits[0])
@@ -215,9 +218,12 @@ def draw(group, frame, pic, limits, args, case):
     title = f"{case}: {what}\nt = {time:.6g} s (frame {frame})"
     ax.set_title(f"{title}, {pic.note}" if pic.note else title, fontsize=11)
     if not args.pattern:  # a pattern is two dummy colours, nothing to read off a bar
-        bar = fig.colorbar(art, ax=ax, label=args.label,
-                           orientation="horizontal" if wide else "vertical",
-                           fraction=0.08 if wide else 0.046, pad=0.25 if wide else 0.04)
+        # The bar as long as the axes' side it stands beside, not the figure's.
+        cax = make_axes_locatable(ax).append_axes("bottom" if wide else "right",
+                                                  size="6%" if wide else "4%",
+                                                  pad=0.6 if wide else 0.15)
+        bar = fig.colorbar(art, cax=cax, label=args.label,
+                           orientation="horizontal" if wide else "vertical")
         if pic.note:  # 3D: a power of ten beyond 1e-3 .. 1e4 keeps a horizontal bar's ticks apart
             bar.formatter.set_powerlimits((-3, 4))
     fig.tight_layout()
@@ -226,7 +232,7 @@ def draw(group, frame, pic, limits, args, case):
         points_per_unit = ax.get_window_extent().width / np.ptp(ax.get_xlim()) * 72 / args.dpi
         art.set_sizes([(0.8 * pic.spacing * points_per_unit) ** 2])
     name = output_name(args.output, frame, args.sequence)
-    fig.savefig(name)
+    fig.savefig(name, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
     print(name)
 

@@ -58,9 +58,7 @@ public:
     if (std::find(spec_.silenced_warnings.begin(), spec_.silenced_warnings.end(), check) !=
         spec_.silenced_warnings.end())
       return;
-    const auto at = spec_.locations.find(key);
-    warnings_.push_back(
-        {check, at != spec_.locations.end() ? at->second : fallback, std::move(message)});
+    warnings_.push_back({check, spec_.location_of(key, fallback), std::move(message)});
   }
   std::vector<PlausibilityWarning> take() { return std::move(warnings_); }
 
@@ -227,6 +225,38 @@ void check_loads(Collector& out, const CaseSpec& spec) {
   }
 }
 
+/// A point load acts on one point; spread over a cell face (a cell's width per metre in plane
+/// strain, per radian at its radius in axisymmetry, a cell's face in 3D) it should not exceed
+/// the modulus of the body it loads.
+void check_point_loads(Collector& out, const CaseSpec& spec) {
+  const double h = spec.grid.cell_size;
+  for (std::size_t i = 0; i < spec.point_loads.size(); ++i) {
+    const PointLoadSpec& load = spec.point_loads[i];
+    const double area = spec.dimension == 3                       ? h * h
+                        : spec.geometry == Geometry::Axisymmetric ? h * std::max(load.point[0], h)
+                                                                  : h;
+    const double q = load.force.norm() / area;
+    for (const BodySpec& body : spec.bodies) {
+      Vec3 lo, hi;
+      bounding_box(body, spec.dimension, lo, hi);
+      bool inside = true;
+      for (int d = 0; d < spec.dimension; ++d)
+        inside = inside && load.point[d] >= lo[d] - h && load.point[d] <= hi[d] + h;
+      if (!inside)
+        continue;
+      const MaterialSpec& s = spec.materials[static_cast<std::size_t>(body.material_index)];
+      if (q > s.youngs_modulus)
+        out.add(PlausibilityCheck::Load, fmt::format("point_loads[{}].force", i), load.where,
+                fmt::format("point load '{}' spread over a cell face ({:g} m) is {}, above the "
+                            "Young's modulus of body '{}' ({}): strains of order one under the "
+                            "point; is the force in N (per metre in plane strain, per radian in "
+                            "axisymmetry)?",
+                            load.name, h, pressure(q), body.name, pressure(s.youngs_modulus)));
+      break;
+    }
+  }
+}
+
 void check_gravity(Collector& out, const CaseSpec& spec) {
   const double g = spec.gravity.norm();
   if (g == 0 || (g >= kMinGravity && g <= kMaxGravity))
@@ -270,6 +300,7 @@ std::vector<PlausibilityWarning> plausibility_warnings(const CaseSpec& spec) {
     check_friction_angle(out, s, prefix);
   }
   check_loads(out, spec);
+  check_point_loads(out, spec);
   check_gravity(out, spec);
   check_displacements(out, spec);
   return out.take();

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <new>
 #include <stdexcept>
+#include <vector>
 
 namespace talus {
 namespace {
@@ -173,9 +174,10 @@ public:
       cholmod_factorize(&view, L_, &common_);
     }
     if (common_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
-      throw NumericalError(fmt::format("cholmod: matrix is not positive definite (Cholesky "
-                                       "breaks down at column {} of {})",
-                                       L_->minor, L_->n));
+      throw SingularPivot(original_column(L_->minor),
+                          fmt::format("cholmod: matrix is not positive definite (Cholesky "
+                                      "breaks down at column {} of {})",
+                                      original_column(L_->minor), L_->n));
     }
     if (common_.status < CHOLMOD_OK) {
       throw_failure("cholmod_factorize");
@@ -188,9 +190,10 @@ public:
       const auto* Lx = static_cast<const double*>(L_->x);
       for (size_t j = 0; j < L_->n; ++j) {
         if (!(Lx[Lp[j]] > 0.0)) { // D(j) is stored first in column j
-          throw NumericalError(fmt::format("cholmod: matrix is not positive definite (pivot {} "
-                                           "of {} is {:.3e})",
-                                           j, L_->n, Lx[Lp[j]]));
+          throw SingularPivot(original_column(j),
+                              fmt::format("cholmod: matrix is not positive definite (the pivot "
+                                          "of column {} of {} is {:.3e})",
+                                          original_column(j), L_->n, Lx[Lp[j]]));
         }
       }
     }
@@ -220,6 +223,12 @@ public:
   }
 
 private:
+  /// The column of A_ that column k of the factor (of the permuted matrix) belongs to.
+  long long original_column(std::size_t k) const {
+    const auto* perm = static_cast<const int*>(L_->Perm);
+    return perm != nullptr && k < L_->n ? perm[k] : static_cast<long long>(k);
+  }
+
   /// Symmetric view of A_ that uses only its lower triangle (A_ holds both triangles).
   cholmod_sparse sparse_view() {
     cholmod_sparse s{};
@@ -278,8 +287,11 @@ public:
     free_numeric();
     const int status = umfpack_di_numeric(Ap(), Ai(), Ax(), symbolic_, &numeric_, control_, info_);
     if (status == UMFPACK_WARNING_singular_matrix) {
+      const long long column = zero_pivot_column();
       free_numeric();
-      throw NumericalError("umfpack: matrix is singular");
+      throw SingularPivot(column, fmt::format("umfpack: matrix is singular (a zero pivot in "
+                                              "column {} of {})",
+                                              column, n()));
     }
     if (status < UMFPACK_OK) {
       free_numeric();
@@ -304,6 +316,19 @@ public:
   }
 
 private:
+  /// The column of A whose pivot (diagonal of U) is zero, from a singular factorisation.
+  long long zero_pivot_column() {
+    std::vector<int> Q(static_cast<std::size_t>(n()));
+    std::vector<double> diagonal(static_cast<std::size_t>(n()));
+    int do_recip = 0;
+    if (umfpack_di_get_numeric(nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+                               Q.data(), diagonal.data(), &do_recip, nullptr,
+                               numeric_) != UMFPACK_OK)
+      return -1;
+    const auto zero = std::find(diagonal.begin(), diagonal.end(), 0.0);
+    return zero == diagonal.end() ? -1 : Q[static_cast<std::size_t>(zero - diagonal.begin())];
+  }
+
   void free_numeric() {
     if (numeric_ != nullptr) {
       umfpack_di_free_numeric(&numeric_);
@@ -370,7 +395,10 @@ public:
       if (numeric_ != nullptr) {
         klu_free_numeric(&numeric_, &common_);
       }
-      throw NumericalError("klu: matrix is singular");
+      const long long column = common_.singular_col < n() ? common_.singular_col : -1;
+      throw SingularPivot(column, fmt::format("klu: matrix is singular (a zero pivot in column "
+                                              "{} of {})",
+                                              column, n()));
     }
     if (numeric_ == nullptr || common_.status < KLU_OK) {
       throw_failure("klu_factor");

@@ -3,24 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <limits>
 
 namespace talus {
 namespace {
-
-/// The location of the value at `key`, or `fallback` when the case did not give it in a map.
-SourceLocation located(const CaseSpec& spec, const std::string& key,
-                       const SourceLocation& fallback) {
-  const auto at = spec.locations.find(key);
-  return at != spec.locations.end() ? at->second : fallback;
-}
-
-template <int Dim> std::string shown(const Vec<Dim>& x) {
-  std::string s = "[";
-  for (int d = 0; d < Dim; ++d)
-    s += fmt::format("{}{:g}", d > 0 ? ", " : "", x[d]);
-  return s + "]";
-}
 
 /// The box a prescribed box sweeps over its whole displacement (free components stay put).
 template <int Dim> void swept_box(const PrescribedSpec& p, Vec<Dim>& lo, Vec<Dim>& hi) {
@@ -70,13 +57,14 @@ template <int Dim> void check_prescribed_boxes(const Scene<Dim>& scene) {
     for (const Vec<Dim>& xp : x)
       nearest = std::min(nearest, distance_to_box<Dim>(xp, lo, hi));
     throw InputError(
-        located(spec, fmt::format("prescribed[{}].min", i), p.where),
-        fmt::format("prescribed box '{}' reaches no material: none of its grid nodes, at the "
-                    "start or anywhere along its displacement, is a node of a cell that holds "
-                    "material points (the nearest point is {:.3g} m from the box, {} to {}), so "
-                    "it would carry no load; put the box on the body's nodes (a footing: the row "
-                    "of nodes at the surface under it)",
-                    p.name, nearest, shown<Dim>(lo), shown<Dim>(hi)));
+        spec.location_of(fmt::format("prescribed[{}].min", i), p.where),
+        fmt::format(
+            "prescribed box '{}' reaches no material: none of its grid nodes, at the "
+            "start or anywhere along its displacement, is a node of a cell that holds "
+            "material points (the nearest point is {:.3g} m from the box, [{:g}] to [{:g}]), so "
+            "it would carry no load; put the box on the body's nodes (a footing: the row "
+            "of nodes at the surface under it)",
+            p.name, nearest, fmt::join(lo, ", "), fmt::join(hi, ", ")));
   }
 }
 
@@ -90,11 +78,11 @@ template <int Dim> void check_point_loads(const Scene<Dim>& scene) {
     for (const Vec<Dim>& x : scene.particles.x)
       nearest = std::min(nearest, (x - q).norm());
     if (nearest > h)
-      throw InputError(located(spec, fmt::format("point_loads[{}].point", i), load.where),
-                       fmt::format("point load '{}' at {} reaches no material: the nearest "
+      throw InputError(spec.location_of(fmt::format("point_loads[{}].point", i), load.where),
+                       fmt::format("point load '{}' at [{:g}] reaches no material: the nearest "
                                    "material point is {:.3g} m away, more than a cell ({:g} m); "
                                    "the load acts on that point, so place it on the body",
-                                   load.name, shown<Dim>(q), nearest, h));
+                                   load.name, fmt::join(q, ", "), nearest, h));
   }
 }
 

@@ -23,9 +23,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string_view>
 #include <type_traits>
 
 namespace talus {
@@ -196,6 +198,27 @@ public:
 
   bool pattern_changed() const override { return pattern_generation_ != analysed_generation_; }
   void pattern_analysed() override { analysed_generation_ = pattern_generation_; }
+
+  // The node and component of an unknown, and its diagonal stiffness against the largest: a
+  // node that nothing stiff holds (a unit mistake, a body held nowhere) shows as a tiny ratio.
+  std::string describe_unknown(Index i) const override {
+    for (Index n = 0; n < step_.map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a) {
+        if (step_.displacement_dof(n, a) != i)
+          continue;
+        constexpr std::string_view kAxes = Axisymmetric ? "rz" : "xyz";
+        std::string text =
+            fmt::format(": unknown {} is the {} displacement of the grid node at [{:.4g}]", i,
+                        kAxes[at(a)], fmt::join(step_.map.nodes().position(n), ", "));
+        if (const SparseMatrix& K = tangent_.last(); i < K.rows() && K.nonZeros() > 0) {
+          const double largest = K.diagonal().cwiseAbs().maxCoeff();
+          text += fmt::format(", whose diagonal stiffness is {:.3g} of the largest ({:.3g})",
+                              K.coeff(i, i) / largest, largest);
+        }
+        return text;
+      }
+    return {};
+  }
 
   // --- assembly by shares (ImplicitShareAssembly, for the tests; step() is one share) --
   void prepare(double lambda_end, double ramp_end, double dt) override {

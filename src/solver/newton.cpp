@@ -263,6 +263,8 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
   if (d.error) {
     try {
       std::rethrow_exception(d.error);
+    } catch (const SingularPivot& e) {
+      d.report.message = e.what() + system.describe_unknown(e.unknown());
     } catch (const NumericalError& e) {
       d.report.message = e.what();
     }

@@ -111,4 +111,27 @@ TEST_F(FailedRuns, AnUnsupportedBodyIsNamed) {
       << r.describe();
 }
 
+// A zero or negative pivot names its unknown: the node, the component and its stiffness. An
+// elastic block that nothing holds has a tangent with rigid-body modes; Cholesky meets the first
+// of them as a non-positive pivot (measured: -1.5e-7 against a largest diagonal of 4.3e7).
+TEST_F(FailedRuns, ASingularTangentNamesItsNode) {
+  const std::string elastic =
+      edited("  - {name: clay, model: mohr_coulomb, density: 2000, youngs_modulus: 2.0e7, "
+             "poisson_ratio: 0.3,\n     cohesion: 1.0e4, friction_angle: 30}",
+             "  - {name: clay, model: linear_elastic, density: 2000, youngs_modulus: 2.0e7, "
+             "poisson_ratio: 0.3}");
+  write_file(work() / "case.yaml",
+             edited("{x_min: roller, x_max: roller, y_min: fixed}", "{}",
+                    edited("max: [4, 2]", "max: [3.5, 2]",
+                           edited("min: [0, 0], max", "min: [0.5, 0.5], max", elastic))) +
+                 "solver: {linear_solver: cholmod}\n");
+  const Outcome r = talus({"run", "case.yaml", "--out", "out"});
+  EXPECT_EQ(r.exit_code, 3) << r.describe();
+  for (const char* part :
+       {"cholmod: matrix is not positive definite (the pivot of column ", ": unknown ",
+        " displacement of the grid node at [", "whose diagonal stiffness is ",
+        "Likely causes: (1) body 'block' touches no fixed or roller face"})
+    EXPECT_TRUE(has(r.err, part)) << "stderr lacks \"" << part << "\"\n" << r.describe();
+}
+
 } // namespace

@@ -10,10 +10,15 @@
 
 namespace talus {
 
-/// The time a run has left, from its progress so far. It extrapolates the rate of the last
-/// quarter of the run rather than the average: an implicit run's steps get dearer as the soil
-/// yields (more Newton iterations, cut-backs near a limit load), and an explicit run's cheaper
-/// once its start-up is behind it.
+/// The time a run has left, from its progress since its first step (which starts everything
+/// up and is no guide to the others). The time per unit of progress (the rate) is fitted by a
+/// least-squares line over the last third of the run. A rising line is extrapolated to the
+/// end: costs that rise are real (an implicit run's steps take more Newton iterations as the
+/// soil yields; an explicit run's points split and move faster). A falling line is taken at
+/// its value now and not further: a falling cost is mostly a start-up passing. The rate stays
+/// within [1/2, 2] times the window's mean rate, so that a noisy slope over a few samples cannot
+/// run away, and gets a fifth more, for the rise the window has not seen yet. Measured against
+/// the shipped cases in docs/performance.md.
 class EtaEstimator {
 public:
   /// The run is `fraction` (0 to 1) done after `elapsed` seconds.
@@ -22,9 +27,9 @@ public:
   double remaining_seconds() const;
 
 private:
-  /// (fraction, elapsed) at least half a per cent apart, over the last quarter of the run and
-  /// from the run's start until a quarter is done.
-  std::deque<std::pair<double, double>> samples_{{0.0, 0.0}};
+  /// (fraction, elapsed) at least half a per cent apart, over the last third of the run and
+  /// from the first step's end until a third is done.
+  std::deque<std::pair<double, double>> samples_;
   std::pair<double, double> latest_{0.0, 0.0};
 };
 

@@ -2,6 +2,8 @@
 // Sparse linear solvers behind one interface, for the implicit Newton solve K du = -R.
 // The symbolic analysis (ordering, symbolic factorisation, preconditioner structure) is done by
 // analyze() and reused by factorize() as long as the sparsity pattern does not change.
+#include "talus/core/errors.hpp"
+
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -21,6 +23,19 @@ enum class LinearSolverKind {
   EigenBicgstab, ///< Eigen BiCGSTAB, incomplete-LU (ILUT) preconditioner (general)
   TrilinosCg,    ///< Trilinos Belos CG with a MueLu (default) or Ifpack2 preconditioner (SPD)
   TrilinosGmres, ///< Trilinos Belos GMRES with a MueLu or Ifpack2 preconditioner (general)
+};
+
+/// A direct factorisation met a zero (or, Cholesky, a non-positive) pivot. `unknown()` is the
+/// row and column of the matrix as given whose pivot it was, so that the caller can say which
+/// node and component has no stiffness; -1 when the backend does not tell.
+class SingularPivot : public NumericalError {
+public:
+  SingularPivot(long long unknown, const std::string& what)
+      : NumericalError(what), unknown_(unknown) {}
+  long long unknown() const { return unknown_; }
+
+private:
+  long long unknown_;
 };
 
 struct LinearSolverOptions {
@@ -43,7 +58,7 @@ public:
   virtual bool requires_symmetric() const = 0;
   /// Symbolic phase for A's sparsity pattern.
   virtual void analyze(const SparseMatrix& A) = 0;
-  /// Numeric phase for A (same pattern as the last analyze()). Throws NumericalError when the
+  /// Numeric phase for A (same pattern as the last analyze()). Throws SingularPivot when the
   /// matrix is singular or (Cholesky) not positive definite.
   virtual void factorize(const SparseMatrix& A) = 0;
   /// Solves A x = b with the last factorised A; throws NumericalError if an iterative method

@@ -6,6 +6,7 @@
 #include "talus/spec/case_spec.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <string>
 #include <vector>
 
@@ -30,15 +31,9 @@ template <int Dim> std::string where_point_is(const Scene<Dim>& scene, long long
   if (p < 0 || p >= static_cast<long long>(P.size()))
     return {};
   const auto s = static_cast<std::size_t>(p);
-  const auto shown = [](const Vec<Dim>& x) {
-    std::string out = "[";
-    for (int d = 0; d < Dim; ++d)
-      out += fmt::format("{}{:.4g}", d > 0 ? ", " : "", x[d]);
-    return out + "]";
-  };
   const auto body = static_cast<std::size_t>(P.body[s]);
-  return fmt::format(" (the point at {}, initially {}, in body '{}')", shown(P.x[s]),
-                     shown(P.x0[s]),
+  return fmt::format(" (the point at [{:.4g}], initially [{:.4g}], in body '{}')",
+                     fmt::join(P.x[s], ", "), fmt::join(P.x0[s], ", "),
                      body < scene.spec.bodies.size() ? scene.spec.bodies[body].name : "?");
 }
 

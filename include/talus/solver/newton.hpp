@@ -33,6 +33,9 @@ public:
   virtual bool pattern_changed() const = 0;
   /// Called once the linear solver has analysed the current Jacobian's pattern.
   virtual void pattern_analysed() = 0;
+  /// What unknown `i` of this process is, for a failure that names it (a zero pivot): text
+  /// that follows the linear solver's message, or empty.
+  virtual std::string describe_unknown(Index /*i*/) const { return {}; }
 };
 
 struct NewtonOptions {

@@ -391,6 +391,12 @@ struct CaseSpec {
   /// Where each value of a map in the case file sat, by key path ("materials[0].cohesion"), for
   /// messages about the case after it was read.
   std::map<std::string, SourceLocation> locations;
+
+  /// Where the value at `key` sat, or `fallback` (a value given outside a map, or a default).
+  const SourceLocation& location_of(const std::string& key, const SourceLocation& fallback) const {
+    const auto found = locations.find(key);
+    return found != locations.end() ? found->second : fallback;
+  }
 };
 
 } // namespace talus
