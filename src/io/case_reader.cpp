@@ -185,9 +185,26 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   if (!root.IsMap())
     fail(top_item, "a case file must be a map of keys (name:, grid:, ...), got " + describe(root));
   const Map top(*this, top_item,
-                {"name", "analysis", "dimension", "geometry", "grid", "materials", "bodies",
-                 "gravity", "boundaries", "point_loads", "tractions", "prescribed", "time",
-                 "output", "probes", "solver", "strength_reduction", "stages", "silence_warnings"});
+                {"name",
+                 "analysis",
+                 "dimension",
+                 "geometry",
+                 "grid",
+                 "materials",
+                 "bodies",
+                 "gravity",
+                 "boundaries",
+                 "point_loads",
+                 "tractions",
+                 "prescribed",
+                 "time",
+                 "output",
+                 "probes",
+                 "solver",
+                 "strength_reduction",
+                 "stages",
+                 "silence_warnings",
+                 "water"});
   CaseSpec spec;
   spec.name = case_name(top.required("name"));
   if (top.has("analysis") && !top.present("stages"))
@@ -217,6 +234,14 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.time = time(time_item);
     check_time_step(time_item, spec.analysis, spec.time, spec);
   }
+  if (top.present("water"))
+    spec.water = water(top["water"], spec);
+  for (std::size_t k = 0; k < spec.materials.size(); ++k)
+    if (spec.materials[k].saturated_density && !spec.water)
+      fail(list(top["materials"])[k],
+           "material '" + spec.materials[k].name +
+               "' has a saturated weight (saturated_density or saturated_unit_weight) but the "
+               "case has no water section, the phreatic surface below which it applies");
   if (top.present("boundaries"))
     spec.boundaries = boundaries(top["boundaries"]);
   if (top.present("point_loads"))
@@ -227,8 +252,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.prescribed = prescribed(top["prescribed"], spec);
   const bool any_plastic = std::any_of(spec.materials.begin(), spec.materials.end(),
                                        [](const MaterialSpec& m) { return is_plastic(m.model); });
-  spec.output =
-      top.present("output") ? output(top["output"], any_plastic) : default_output(any_plastic);
+  spec.output = top.present("output") ? output(top["output"], any_plastic, spec.water.has_value())
+                                      : default_output(any_plastic, spec.water.has_value());
   if (top.present("probes"))
     spec.probes = probes(top["probes"], spec.grid);
   if (top.present("solver"))

@@ -84,6 +84,7 @@ const Choices<OutputField>& output_field_choices() {
                                       {"stress", OutputField::Stress},
                                       {"material", OutputField::Material},
                                       {"plastic_strain", OutputField::PlasticStrain},
+                                      {"pore_pressure", OutputField::PorePressure},
                                       {"reference_position", OutputField::ReferencePosition}};
   return c;
 }

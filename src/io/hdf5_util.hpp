@@ -288,6 +288,14 @@ inline constexpr DatasetInfo kPlasticStrain{
     "accumulated equivalent plastic shear strain kappa = sum sqrt(2/3) |dev d eps^p| of the "
     "converged state; 0 for points of elastic materials",
     "Scalar"};
+inline constexpr DatasetInfo kPorePressure{
+    "pore_pressure",
+    0,
+    false,
+    "Pa",
+    "pore pressure u (compression positive) that the total stress holds: the effective stress "
+    "is stress + u I",
+    "Scalar"};
 inline constexpr DatasetInfo kReferencePosition{
     "reference_position",
     2,
@@ -373,6 +381,8 @@ inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& f
     out.push_back(kPlasticStrain);
   if (has(OutputField::ReferencePosition))
     out.push_back(in_dimension(kReferencePosition, dimension));
+  if (has(OutputField::PorePressure))
+    out.push_back(kPorePressure);
   return out;
 }
 

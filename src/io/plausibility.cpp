@@ -294,6 +294,14 @@ std::vector<PlausibilityWarning> plausibility_warnings(const CaseSpec& spec) {
     const std::string prefix = fmt::format("materials[{}]", m);
     const bool by_weight = spec.locations.contains(prefix + ".unit_weight");
     check_density(out, s, prefix + (by_weight ? ".unit_weight" : ".density"), g, by_weight);
+    if (s.saturated_density) {
+      MaterialSpec wet = s;
+      wet.density = *s.saturated_density;
+      const bool wet_by_weight = spec.locations.contains(prefix + ".saturated_unit_weight");
+      check_density(out, wet,
+                    prefix + (wet_by_weight ? ".saturated_unit_weight" : ".saturated_density"), g,
+                    wet_by_weight);
+    }
     check_modulus(out, spec, static_cast<int>(m), prefix);
     if (is_plastic(s.model))
       check_strength(out, spec, static_cast<int>(m), prefix);

@@ -14,7 +14,7 @@ std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravi
     const Map m(*this, item,
                 {"name", "model", "density", "unit_weight", "youngs_modulus", "poisson_ratio",
                  "kinematics", "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
-                 "dilation_angle", "residual"});
+                 "dilation_angle", "residual", "saturated_density", "saturated_unit_weight"});
     MaterialSpec s;
     s.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -23,6 +23,7 @@ std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravi
     const Item model_item = m.required("model");
     s.model = choice(model_item, material_model_choices());
     s.density = density(m, gravity);
+    s.saturated_density = saturated_density(m, gravity);
     s.youngs_modulus = positive(m.required("youngs_modulus"));
     const Item nu = m.required("poisson_ratio");
     s.poisson_ratio = number(nu);

@@ -3,18 +3,20 @@
 
 namespace talus::detail {
 
-OutputSpec default_output(bool any_plastic) {
+OutputSpec default_output(bool any_plastic, bool water) {
   OutputSpec o;
   if (any_plastic)
     o.fields.push_back(OutputField::PlasticStrain);
+  if (water)
+    o.fields.push_back(OutputField::PorePressure);
   return o;
 }
 
-OutputSpec Validator::output(const Item& it, bool any_plastic) const {
+OutputSpec Validator::output(const Item& it, bool any_plastic, bool water) const {
   const Map m(*this, it,
               {"every_steps", "every_time", "fields", "stress_recovery", "voxels", "pattern_size",
                "checkpoint"});
-  OutputSpec o = default_output(any_plastic);
+  OutputSpec o = default_output(any_plastic, water);
   if (m.has("checkpoint")) {
     const Map c(*this, m["checkpoint"], {"every_steps", "every_seconds"});
     CheckpointSpec spec;
@@ -38,6 +40,8 @@ OutputSpec Validator::output(const Item& it, bool any_plastic) const {
       const OutputField field = choice(f, output_field_choices());
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
         fail(f, "field '" + shown(f.node.Scalar()) + "' is listed twice");
+      if (field == OutputField::PorePressure && !water)
+        fail(f, "field 'pore_pressure' needs a water section");
       if (field == OutputField::PlasticStrain && !any_plastic)
         fail(f, "field 'plastic_strain' needs an elasto-plastic material (von_mises, tresca, "
                 "mohr_coulomb, drucker_prager); every material of this case is elastic");

@@ -218,6 +218,8 @@ FrameSource frame_source(const std::string& name, const Particles<Dim>& p,
     return {"mass", p.mass.size(), scalars(p.mass)};
   if (name == "volume")
     return {"volume", p.volume.size(), scalars(p.volume)};
+  if (name == "pore_pressure")
+    return {"pore pressure", p.pore_pressure.size(), scalars(p.pore_pressure)};
   if (name == "plastic_strain")
     return {"plastic strain", post.plastic_strain->size(), scalars(*post.plastic_strain)};
   if (name == "F")

@@ -344,6 +344,8 @@ private:
   std::vector<MaterialSpec> materials(const Item& it, const Vec3& gravity) const;
   std::vector<PlausibilityCheck> silenced_warnings(const Item& it) const;
   double density(const Map& m, const Vec3& gravity) const;
+  std::optional<double> saturated_density(const Map& m, const Vec3& gravity) const;
+  WaterSpec water(const Item& it, const CaseSpec& spec) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;
   void body_shape(const Map& m, BodySpec& b) const;
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;
@@ -359,7 +361,7 @@ private:
                        const CaseSpec& spec) const;
   void check_explicit_time_step(const Item& time_item, const TimeSpec& time,
                                 const CaseSpec& spec) const;
-  OutputSpec output(const Item& it, bool any_plastic) const;
+  OutputSpec output(const Item& it, bool any_plastic, bool water) const;
   std::vector<ProbeSpec> probes(const Item& it, const GridSpec& grid) const;
   void bodies_apart(const std::vector<Item>& items, const std::vector<BodySpec>& bodies,
                     const GridSpec& grid) const;
@@ -405,7 +407,7 @@ private:
 };
 
 /// The output defaults: the six fields, plus plastic_strain when the case has an
-/// elasto-plastic material.
-OutputSpec default_output(bool any_plastic);
+/// elasto-plastic material and pore_pressure when it has water.
+OutputSpec default_output(bool any_plastic, bool water);
 
 } // namespace talus::detail

@@ -252,7 +252,8 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   e.active_nodes = std::min(active, e.nodes);
 
   // Per point: what every run has, then what the materials, the map and the solver add.
-  double per_point_grown = particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0);
+  double per_point_grown = particle_core(dims) + scene_build(dims) + (splitting ? kSplitState : 0) +
+                           (spec.water ? sizeof(double) : 0);
   // The map per point: its stencil, first node id, bin, and place in the sorted bins (twice).
   double per_point = stencil_bytes(spec.solver.shape, dims) + 3 * sizeof(Index) +
                      sizeof(std::int32_t) + kFrameBuffer;

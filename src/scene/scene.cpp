@@ -6,6 +6,7 @@
 #include "talus/scene/splitting.hpp"
 
 #include "load_reach.hpp"
+#include "scene_water.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -162,6 +163,7 @@ void add_body(Scene<Dim>& scene, const BodySpec& body, int body_index,
               std::vector<Vec<Dim>>& lattice) {
   const auto& grid = scene.grid;
   const MaterialSpec& mat = scene.spec.materials[static_cast<std::size_t>(body.material_index)];
+  const std::optional<WaterTable> water = WaterTable::of(scene.spec);
   auto& P = scene.particles;
   const bool axisymmetric = scene.spec.geometry == Geometry::Axisymmetric;
   std::vector<Index> created;
@@ -199,7 +201,7 @@ void add_body(Scene<Dim>& scene, const BodySpec& body, int body_index,
     // of its centroid, the lattice site).
     P.volume0[s] = std::pow(spacing, Dim) * (axisymmetric ? site[0] : 1.0);
     P.volume[s] = P.volume0[s];
-    P.mass[s] = mat.density * P.volume0[s];
+    P.mass[s] = point_density<Dim>(mat, water, x) * P.volume0[s];
     P.half_size0[s] = Vec<Dim>::Constant(0.5 * spacing);
     P.material[s] = body.material_index;
     P.body[s] = body_index;
@@ -311,6 +313,7 @@ template <int Dim> void apply_tractions(Scene<Dim>& scene, const std::vector<Vec
 // and the elastic strain their material starts from. Geostatic: the vertical axis is y.
 template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
   const CaseSpec& spec = scene.spec;
+  const std::optional<WaterTable> water = WaterTable::of(spec);
   auto& P = scene.particles;
   for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
     const BodySpec& body = spec.bodies[b];
@@ -320,22 +323,21 @@ template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
     const MaterialSpec& material = spec.materials[static_cast<std::size_t>(body.material_index)];
     const double nu = material.poisson_ratio;
     const double k0 = init.k0.value_or(nu / (1.0 - nu));
-    const double unit_weight = material.density * spec.gravity.norm();
+    // The material starts from the effective stress; the points carry the total one.
     std::vector<Index> ids;
     for (Index p = 0; p < P.size(); ++p) {
       const auto s = static_cast<std::size_t>(p);
       if (P.body[s] != static_cast<int>(b))
         continue;
       ids.push_back(p);
-      Mat3 sigma = Mat3::Zero();
-      if (init.kind == BodySpec::InitialStress::Kind::Uniform) {
-        sigma = init.stress;
-      } else {
-        const double vertical = -unit_weight * std::max(0.0, init.surface - P.x[s][1]);
-        sigma(1, 1) = vertical;
-        sigma(0, 0) = sigma(2, 2) = k0 * vertical;
-      }
-      P.stress[s] = sigma;
+      double u = water ? water->pore_pressure<Dim>(P.x[s]) : 0.0;
+      if (init.kind == BodySpec::InitialStress::Kind::Uniform)
+        P.stress[s] = init.stress + u * Mat3::Identity();
+      else
+        P.stress[s] = geostatic_effective_stress<Dim>(material, k0, init.surface,
+                                                      spec.gravity.norm(), water, P.x[s], u);
+      if (water)
+        P.pore_pressure[s] = u;
     }
     try {
       scene.materials[static_cast<std::size_t>(body.material_index)]->set_initial_stress(ids,
@@ -343,6 +345,10 @@ template <int Dim> void apply_initial_stress(Scene<Dim>& scene) {
     } catch (const InputError& e) {
       throw InputError(init.where, e.detail());
     }
+    if (water)
+      for (const Index p : ids)
+        P.stress[static_cast<std::size_t>(p)].diagonal().array() -=
+            P.pore_pressure[static_cast<std::size_t>(p)];
   }
 }
 
@@ -372,6 +378,11 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
             scene.particles.material[static_cast<std::size_t>(p)])]
         .push_back(p);
 
+  refuse_free_water<Dim>(scene);
+  // The pore pressure the points' stress holds: none until an initial stress or a solver
+  // puts it there.
+  if (spec.water)
+    scene.particles.pore_pressure.assign(static_cast<std::size_t>(scene.particles.size()), 0.0);
   apply_initial_stress<Dim>(scene);
   enable_splitting(scene);
 

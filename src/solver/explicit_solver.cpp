@@ -1,4 +1,5 @@
 #include "talus/solver/explicit_solver.hpp"
+#include "talus/scene/water_table.hpp"
 
 #include "talus/core/parallel.hpp"
 #include "talus/grid/grid_state.hpp"
@@ -422,13 +423,21 @@ private:
     update_stress();
   }
 
+  // The materials give the effective stress; below the water table the points carry the
+  // total one, sigma' - u I, with u where the point now is.
   void update_stress() {
     auto& P = scene_.particles;
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->update_stress(scene_.particles_of_material[m], P.F, P.stress);
+    if (water_)
+      for (std::size_t s = 0; s < P.stress.size(); ++s) {
+        P.pore_pressure[s] = water_->pore_pressure<Dim>(P.x[s]);
+        P.stress[s].diagonal().array() -= P.pore_pressure[s];
+      }
   }
 
   Scene<Dim>& scene_;
+  std::optional<WaterTable> water_ = WaterTable::of(scene_.spec);
   ParticleGridMap<Dim, Shape> map_;
   GridState<Dim> state_;              ///< per active node: what the step gathers and updates
   std::vector<Index> reaction_nodes_; ///< the nodes with a reaction face, ascending

@@ -231,7 +231,7 @@ public:
     dt_ = dt;
     step_.prepare(scene_, {lambda_end, ramp_end, ramp_committed_, dt, dynamic_, gravity_ramped_},
                   material_young_);
-    trial_.prepare(step_.map);
+    trial_.prepare(step_.map, gravity_ramped_ ? lambda_end : 1.0);
     ++step_count_;
     whole_ = {comm_->rank(), 0, scene_.particles.size()};
     // This rank's points reach every node of its step (and it assembles the ghost faces its

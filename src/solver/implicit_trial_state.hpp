@@ -10,6 +10,7 @@
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
 #include "talus/scene/scene.hpp"
+#include "talus/scene/water_table.hpp"
 #include "talus/solver/failure_hints.hpp"
 #include "talus/solver/particle_share.hpp"
 
@@ -47,10 +48,18 @@ public:
     valid_ = false;
   }
 
-  /// A new step on `map`'s nodes: F-bar's cells at the points' start positions.
-  void prepare(const ParticleGridMap<Dim, Shape>& map) {
+  /// A new step on `map`'s nodes: F-bar's cells at the points' start positions, and the pore
+  /// pressure of each point there, held through the step, times `water_factor` (the gravity's
+  /// load factor at the step's end: hydrostatic pressure grows with the weight).
+  void prepare(const ParticleGridMap<Dim, Shape>& map, double water_factor) {
     if (f_bar_)
       f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
+    if (water_) {
+      const auto& x = scene_.particles.x;
+      pore_pressure_.resize(x.size());
+      for (std::size_t s = 0; s < x.size(); ++s)
+        pore_pressure_[s] = water_factor * water_->pore_pressure<Dim>(x[s]);
+    }
     valid_ = false;
     rejection_.clear();
   }
@@ -106,6 +115,8 @@ public:
       rejection_ = e.what();
       return false;
     }
+    if (water_)
+      parallel_for(share.size(), [&](Index i) { add_pore_pressure(at(share.begin + i)); });
     valid_ = true;
     share_ = share;
     du_ = du;
@@ -153,11 +164,31 @@ public:
   }
   const Mat3& F(std::size_t s) const { return F_[s]; }
   const Mat3& kirchhoff(std::size_t s) const { return response_[s].kirchhoff; }
+  /// The pore pressure the trial stress of point s holds (with water; the step's).
+  double pore_pressure(std::size_t s) const { return pore_pressure_[s]; }
 
   /// F-bar in the step, or null without it: its cells couple the tangent's points.
   FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
 
 private:
+  /// The material gave the effective stress; the point carries the total one, tau = tau' -
+  /// J u I, with u fixed within the step (it moves with the point between steps), so that
+  /// d(tau_ii)/dF gains -u dJ/dF = -u J F^-T.
+  void add_pore_pressure(std::size_t s) {
+    const double u = pore_pressure_[s];
+    if (u == 0.0)
+      return;
+    const double J = F_[s].determinant();
+    const Mat3 dJ_dF = J * F_[s].inverse().transpose();
+    StressTangent& r = response_[s];
+    for (int i = 0; i < 3; ++i) {
+      r.kirchhoff(i, i) -= J * u;
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+          r.dtau_dF(3 * i + i, 3 * k + l) -= u * dJ_dF(k, l);
+    }
+  }
+
   /// The share's points of material m (the material's list is ascending).
   std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
     const auto& ids = scene_.particles_of_material[m];
@@ -166,7 +197,9 @@ private:
   }
 
   Scene<Dim>& scene_;
-  bool f_bar_ = false; ///< F-bar volume averaging per cell (f_bar.hpp)
+  std::optional<WaterTable> water_ = WaterTable::of(scene_.spec);
+  std::vector<double> pore_pressure_; ///< per point: u in this step (with water only)
+  bool f_bar_ = false;                ///< F-bar volume averaging per cell (f_bar.hpp)
   FBarStep<Dim, Axisymmetric> f_bar_step_;
   std::vector<M> dF_;
   std::vector<double> hoop_; ///< per point: the trial hoop stretch (axisymmetry only)

@@ -24,6 +24,7 @@ VerificationCase cantilever_3d();
 VerificationCase cantilever_slab_3d();
 VerificationCase self_weight_column();
 VerificationCase self_weight_column_3d();
+VerificationCase submerged_column();
 VerificationCase column_large_compression();
 VerificationCase single_element();
 VerificationCase single_element_3d();

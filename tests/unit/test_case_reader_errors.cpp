@@ -60,8 +60,8 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
   expect_error(text, {"case.yaml", 12, 5, "materials[0].youngs_modolus",
                       "unknown key 'youngs_modolus' (allowed keys here: name, model, density, "
                       "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
-                      "hardening_modulus, cohesion, friction_angle, dilation_angle, residual); "
-                      "did you mean 'youngs_modulus'?"});
+                      "hardening_modulus, cohesion, friction_angle, dilation_angle, residual, "
+                      "saturated_density, saturated_unit_weight); did you mean 'youngs_modulus'?"});
   // Exact full message (format comes from SourceLocation::to_string()).
   try {
     read_case_text(text, "case.yaml");
@@ -71,7 +71,8 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
                            "'youngs_modolus' (allowed keys here: name, model, density, "
                            "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
                            "hardening_modulus, cohesion, friction_angle, dilation_angle, "
-                           "residual); did you mean 'youngs_modulus'?");
+                           "residual, saturated_density, saturated_unit_weight); did you mean "
+                           "'youngs_modulus'?");
   }
 }
 
@@ -274,7 +275,7 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
       with(kCase, "[velocity, F, stress]", "[velocity, f, stress]"),
       {"case.yaml", 52, 22, "output.fields[1]",
        "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material, plastic_strain, "
-       "reference_position)"});
+       "pore_pressure, reference_position)"});
 }
 
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {

@@ -31,6 +31,9 @@ template <int Dim> struct Particles {
   /// the point was made, so F^split = F F0^-1 needs no evolution of its own.
   Array<Mat3> split_origin_inverse;
   Array<int> split_generation; ///< splits in the point's ancestry (0: generated from a body)
+  /// Pa, compression positive (a case with water only): the pore pressure u the point's total
+  /// stress holds, sigma = sigma' - u I (scene/water_table.hpp).
+  Array<double> pore_pressure;
 
   /// A distributed run's name for each point, the same on every rank and kept when the point
   /// moves between ranks: the point's index in the serial run (empty in a serial run).
@@ -59,7 +62,7 @@ template <int Dim> struct Particles {
   /// Whether the field of that name is one of the optional blocks.
   static bool optional_field(std::string_view name) {
     for (const char* o : {"affine_velocity", "acceleration", "split_origin_inverse",
-                          "split_generation", "global_id"})
+                          "split_generation", "pore_pressure", "global_id"})
       if (name == o)
         return true;
     return false;
@@ -104,6 +107,8 @@ private:
       f("split_origin_inverse", P.split_origin_inverse, Mat3::Identity().eval());
     if (all || !P.split_generation.empty())
       f("split_generation", P.split_generation, 0);
+    if (all || !P.pore_pressure.empty())
+      f("pore_pressure", P.pore_pressure, 0.0);
     if (all || !P.global_id.empty())
       f("global_id", P.global_id, std::int64_t{-1});
   }

@@ -116,6 +116,19 @@ struct MaterialSpec {
   double friction_angle = 0;    ///< mohr_coulomb, drucker_prager, degrees
   double dilation_angle = 0;    ///< mohr_coulomb, drucker_prager, degrees (default 0)
   std::optional<ResidualStrengthSpec> residual; ///< softening; none: perfectly plastic
+  /// kg/m^3, of the soil below the phreatic surface (saturated_density, or
+  /// saturated_unit_weight / |g|); none: `density` everywhere. Only with a water section.
+  std::optional<double> saturated_density;
+  SourceLocation where;
+};
+
+/// Pore water at rest (docs/case-format.md, water): a phreatic surface, hydrostatic pore
+/// pressure u = gamma_w (y_w(x) - y) below it and none above (no suction), y vertical.
+struct WaterSpec {
+  double unit_weight = 9810; ///< gamma_w, N/m^3
+  /// The phreatic surface: y_w at each listed x (a polyline, ascending x, constant beyond its
+  /// ends; in 3D extruded along z), or one point's y for a level surface.
+  std::vector<std::array<double, 2>> phreatic;
   SourceLocation where;
 };
 
@@ -245,7 +258,8 @@ enum class OutputField {
   Stress,
   Material,
   PlasticStrain,
-  ReferencePosition ///< x0, the position in the reference configuration (displacement x - x0)
+  ReferencePosition, ///< x0, the position in the reference configuration (displacement x - x0)
+  PorePressure       ///< u, the pore pressure the total stress holds (a case with water)
 };
 
 /// output.checkpoint: when a run saves the state it can resume from (talus run --resume);
@@ -260,7 +274,7 @@ struct OutputSpec {
   std::optional<Index> every_steps; ///< write a frame every N steps; default: 20 frames per run
   std::optional<double> every_time; ///< s, write a frame every interval
   /// Default: the six kinematic and stress fields, plus plastic_strain when any material is
-  /// elasto-plastic (the reader adds it).
+  /// elasto-plastic and pore_pressure when the case has water (the reader adds them).
   std::vector<OutputField> fields{OutputField::Velocity, OutputField::Mass,
                                   OutputField::Volume,   OutputField::DeformationGradient,
                                   OutputField::Stress,   OutputField::Material};
@@ -379,6 +393,7 @@ struct CaseSpec {
   OutputSpec output;
   std::vector<ProbeSpec> probes;
   SolverSpec solver;
+  std::optional<WaterSpec> water; ///< none: a dry case (every stress is effective)
   std::optional<StrengthReductionSpec> strength_reduction; ///< `talus fos` only
   /// How every strength factor weakens the materials (strength_reduction.flow_rule); kept by
   /// the incremental search's staged case, which has no strength_reduction section.
