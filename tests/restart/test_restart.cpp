@@ -154,6 +154,16 @@ TEST_F(Restart, ImplicitQuasiStaticRunResumesBitwise) {
   kill_and_resume(kCases / "cantilever_large.yaml", {"output.checkpoint.every_steps=3"}, 3, {});
 }
 
+// Pore water (the submerged column, 40 load steps of 4096 points): the points' pore pressure
+// is in the checkpoint and the frames, and a resumed run ramps it on as the uninterrupted one.
+TEST_F(Restart, ImplicitRunWithWaterResumesBitwise) {
+  kill_and_resume(fs::path(TALUS_SOURCE_DIR) / "verification" / "submerged_column.yaml",
+                  {"time.dt=0.025", "grid.cell_size=0.015625", "grid.extent=[0.25, 1.0625]",
+                   "output.checkpoint.every_steps=2",
+                   "output.fields=[velocity, stress, pore_pressure]"},
+                  2, {});
+}
+
 // Newmark implicit dynamics, Tresca.
 TEST_F(Restart, ImplicitDynamicRunResumesBitwise) {
   kill_and_resume(kCases / "colliding_discs_tresca_implicit.yaml",
