@@ -28,7 +28,7 @@ packages=(
   trilinos-all-dev libopenmpi-dev openmpi-bin
   libhdf5-dev zlib1g-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-matplotlib python3-h5py python3-paraview
+  python3 python3-numpy python3-matplotlib python3-h5py python3-paraview python3-yaml
 )
 
 missing=()

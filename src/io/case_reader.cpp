@@ -220,6 +220,8 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.gravity = point(top["gravity"]);
   spec.materials = materials(top.required("materials"), spec.gravity);
   spec.bodies = bodies(top.required("bodies"), spec);
+  if (top.present("water"))
+    spec.water = water(top["water"], spec);
   if (top.present("stages")) {
     for (const char* key : {"analysis", "time"})
       if (top.has(key))
@@ -234,8 +236,6 @@ CaseSpec Validator::read(const YAML::Node& root) const {
     spec.time = time(time_item);
     check_time_step(time_item, spec.analysis, spec.time, spec);
   }
-  if (top.present("water"))
-    spec.water = water(top["water"], spec);
   for (std::size_t k = 0; k < spec.materials.size(); ++k)
     if (spec.materials[k].saturated_density && !spec.water)
       fail(list(top["materials"])[k],
@@ -271,8 +271,10 @@ CaseSpec Validator::read(const YAML::Node& root) const {
       if (spec.solver.f_bar)
         refuse("f_bar couples the points of a cell through their average volume change");
       for (const auto& material : spec.materials)
-        if (is_plastic(material.model) && nonsymmetric_tangent(material))
+        if (nonsymmetric_tangent(material))
           refuse("material '" + material.name + "' has non-associated flow or softening");
+      if (spec.water)
+        refuse("the water's pressure gradient acts on the points' current volume");
     }
   }
   if (top.present("strength_reduction"))

@@ -46,8 +46,9 @@ std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) c
   std::vector<StageSpec> out;
   UniqueNames names(*this, "stage");
   for (const Item& item : list(it)) {
-    const Map m(*this, item,
-                {"name", "analysis", "time", "strength_factor", "wall_time_limit", "at_rest"});
+    const Map m(
+        *this, item,
+        {"name", "analysis", "time", "strength_factor", "wall_time_limit", "at_rest", "water"});
     StageSpec s;
     s.where = locate(m.self());
     s.name = name(m.required("name"));
@@ -65,6 +66,13 @@ std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) c
     }
     if (m.has("wall_time_limit"))
       s.wall_time_limit = positive(m["wall_time_limit"]);
+    if (m.present("water")) {
+      if (!spec.water)
+        fail(m.key("water"), "a stage moves the case's water table; give the water before the "
+                             "first stage in a top-level water section (a level below the "
+                             "bodies for a dry start)");
+      s.water = water(m["water"], spec);
+    }
     if (m.present("at_rest")) {
       if (s.analysis == AnalysisType::ImplicitQuasistatic)
         fail(m.key("at_rest"), "'at_rest' reads the kinetic energy; a quasi-static stage has "

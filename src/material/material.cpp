@@ -6,6 +6,7 @@
 #include "talus/material/plastic_material.hpp"
 #include "talus/material/principal_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -118,6 +119,11 @@ std::unique_ptr<Material> make_material(const MaterialSpec& spec) {
         !nonsymmetric_tangent(spec));
   }
   throw std::logic_error("unknown material model");
+}
+
+bool symmetric_implicit_tangent(const CaseSpec& spec) {
+  return !spec.solver.f_bar && !spec.water &&
+         std::none_of(spec.materials.begin(), spec.materials.end(), nonsymmetric_tangent);
 }
 
 } // namespace talus

@@ -294,9 +294,7 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
         dims == 2 ? 8 * dofs * std::log2(std::max(2.0, dofs)) : factor_entries_3d(dofs);
     const double tables = e.active_nodes * coupled_nodes * sizeof(int);
     // The backend the solver will take (the case's, or the automatic choice).
-    const bool symmetric =
-        !spec.solver.f_bar &&
-        std::none_of(spec.materials.begin(), spec.materials.end(), nonsymmetric_tangent);
+    const bool symmetric = symmetric_implicit_tangent(spec);
     LinearSolverKind kind = automatic_linear_solver(symmetric, dims, static_cast<long long>(dofs));
     if (!spec.solver.linear_solver.empty())
       parse_linear_solver_kind(spec.solver.linear_solver, kind);

@@ -83,10 +83,7 @@ RunTimeEstimate estimate_run_time(const CaseSpec& spec, const MemoryEstimate& me
   const bool plastic = std::any_of(spec.materials.begin(), spec.materials.end(),
                                    [](const MaterialSpec& m) { return is_plastic(m.model); });
   const double unknowns = spec.dimension * memory.active_nodes;
-  e.symmetric = !spec.solver.f_bar && std::all_of(spec.materials.begin(), spec.materials.end(),
-                                                  [](const MaterialSpec& m) {
-                                                    return make_material(m)->symmetric_tangent();
-                                                  });
+  e.symmetric = symmetric_implicit_tangent(spec);
   const double per_unknown = (three_d ? kIterationPerUnknown3d : kIterationPerUnknown2d) *
                              (e.symmetric ? 1.0 : kNonsymmetricFactor);
   const double growth =

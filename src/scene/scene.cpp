@@ -378,7 +378,7 @@ template <int Dim> Scene<Dim> build_scene(const CaseSpec& spec) {
             scene.particles.material[static_cast<std::size_t>(p)])]
         .push_back(p);
 
-  refuse_free_water<Dim>(scene);
+  scene.water = PoreWater::of(spec);
   // The pore pressure the points' stress holds: none until an initial stress or a solver
   // puts it there.
   if (spec.water)

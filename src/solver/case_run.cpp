@@ -306,13 +306,15 @@ template <int Dim> bool Run<Dim>::run_stage(std::size_t k) {
       if (due)
         write_checkpoint(k, true, strength.start(), &watch);
     };
+  StageWater<Dim> water(scene_, spec_, stages_, k);
   // From here on strength_factor_ follows the factor the materials have.
   if (stage.analysis == AnalysisType::Explicit) {
     strength.at(1.0);
+    water.at(1.0);
     run_explicit(scene_, *recorder_, state_, result_, watch);
   } else {
-    run_implicit(scene_, *recorder_, state_, result_, result_.out_dir, watch, strength, k == 0,
-                 options_.dump_tangent);
+    run_implicit(scene_, *recorder_, state_, result_, result_.out_dir, watch, strength, water,
+                 k == 0, options_.dump_tangent);
   }
   state_.checkpoint = nullptr;
   // Ended by its end time or at rest, not cut short: the next checkpoint starts the next.

@@ -1,5 +1,5 @@
 #include "talus/solver/explicit_solver.hpp"
-#include "talus/scene/water_table.hpp"
+#include "talus/scene/pore_water.hpp"
 
 #include "talus/core/parallel.hpp"
 #include "talus/grid/grid_state.hpp"
@@ -176,6 +176,7 @@ private:
     if constexpr ((kWhat & kForce) != 0)
       force_load_.resize(np);
     const V g = head<Dim>(scene_.spec.gravity);
+    const PoreWater& water = scene_.water;
     parallel_for(P.size(), [&](Index q) {
       const auto p = at(map_.point_at_slot(q));
       const auto s = at(q);
@@ -194,6 +195,8 @@ private:
         l.body = P.external_force[p] + P.mass[p] * g;
         if constexpr (Axisymmetric)
           l.hoop = P.volume[p] * P.stress[p](2, 2) / radius_n_[p];
+        if (water.any()) // effective stress, and -grad u over the volume (pore_water.hpp)
+          add_water(p, l);
       }
     });
   }
@@ -429,15 +432,25 @@ private:
     auto& P = scene_.particles;
     for (std::size_t m = 0; m < scene_.materials.size(); ++m)
       scene_.materials[m]->update_stress(scene_.particles_of_material[m], P.F, P.stress);
-    if (water_)
+    if (scene_.water.any())
       for (std::size_t s = 0; s < P.stress.size(); ++s) {
-        P.pore_pressure[s] = water_->pore_pressure<Dim>(P.x[s]);
+        P.pore_pressure[s] = scene_.water.template pore_pressure<Dim>(P.x[s]);
         P.stress[s].diagonal().array() -= P.pore_pressure[s];
       }
   }
 
+  // The grid's balance is written on the effective stress, sigma + u I, with the body force
+  // -V grad u: the total stress in balance with the water's pressure on the body's faces.
+  void add_water(std::size_t p, ForceLoad& l) const {
+    const auto& P = scene_.particles;
+    const double u = P.pore_pressure[p];
+    l.stress_volume.diagonal().array() -= P.volume[p] * u;
+    l.body -= P.volume[p] * scene_.water.template pressure_gradient<Dim>(P.x[p]);
+    if constexpr (Axisymmetric)
+      l.hoop += P.volume[p] * u / radius_n_[p];
+  }
+
   Scene<Dim>& scene_;
-  std::optional<WaterTable> water_ = WaterTable::of(scene_.spec);
   ParticleGridMap<Dim, Shape> map_;
   GridState<Dim> state_;              ///< per active node: what the step gathers and updates
   std::vector<Index> reaction_nodes_; ///< the nodes with a reaction face, ascending

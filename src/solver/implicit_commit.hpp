@@ -33,8 +33,10 @@ commit_points(Scene<Dim>& scene, const ImplicitStepSetup<Dim, Shape, Axisymmetri
     const double J = F.determinant();
     P.F[s] = F;
     P.stress[s] = trial.kirchhoff(s) / J;
-    if (!P.pore_pressure.empty())
+    if (!P.pore_pressure.empty()) { // the material's stress is the effective one
       P.pore_pressure[s] = trial.pore_pressure(s);
+      P.stress[s].diagonal().array() -= P.pore_pressure[s];
+    }
     P.volume[s] = J * P.volume0[s];
     P.x[s] += dx;
     if (!dynamic) {

@@ -58,9 +58,7 @@ public:
       material_young_.push_back(m->lame().young_modulus());
     }
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
-    const bool symmetric = !scene.spec.solver.f_bar &&
-                           std::all_of(scene.materials.begin(), scene.materials.end(),
-                                       [](const auto& m) { return m->symmetric_tangent(); });
+    const bool symmetric = symmetric_implicit_tangent(scene.spec);
     comm_ = &scene.decomposition->comm();
     LinearSolverOptions options;
     options.kind = serial_linear_solver_kind(symmetric);
@@ -69,11 +67,7 @@ public:
     dynamic_ = scene.spec.analysis == AnalysisType::ImplicitDynamic;
     // A geostatic initial stress already balances the full weight: gravity then acts in full
     // from the first step, and only the other loads follow the load factor.
-    gravity_ramped_ =
-        std::none_of(scene.spec.bodies.begin(), scene.spec.bodies.end(), [](const auto& b) {
-          return b.initial_stress &&
-                 b.initial_stress->kind == BodySpec::InitialStress::Kind::Geostatic;
-        });
+    gravity_ramped_ = !scene.spec.starts_geostatic();
     // A dynamic stage after another dynamic stage continues from its Newmark acceleration.
     if (dynamic_ && scene.particles.acceleration.size() != np)
       scene.particles.acceleration.assign(np, V::Zero());
@@ -231,7 +225,7 @@ public:
     dt_ = dt;
     step_.prepare(scene_, {lambda_end, ramp_end, ramp_committed_, dt, dynamic_, gravity_ramped_},
                   material_young_);
-    trial_.prepare(step_.map, gravity_ramped_ ? lambda_end : 1.0);
+    trial_.prepare(step_.map);
     ++step_count_;
     whole_ = {comm_->rank(), 0, scene_.particles.size()};
     // This rank's points reach every node of its step (and it assembles the ghost faces its

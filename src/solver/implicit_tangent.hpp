@@ -10,6 +10,7 @@
 #include "talus/core/parallel.hpp"
 #include "talus/linalg/dof_map.hpp"
 #include "talus/linalg/lattice_assembler.hpp"
+#include "water_stiffness.hpp"
 
 #include <algorithm>
 #include <array>
@@ -135,7 +136,7 @@ private:
             PointStiffness<kDofs>& K = group_blocks_[at(i)];
             K.setZero();
             Eigen::Matrix<double, Dim, kNodes> grads;
-            Eigen::Matrix<double, 1, kNodes> hoop; // N / r_n (axisymmetry)
+            Eigen::Matrix<double, 1, kNodes> weights, hoop; // N, N / r_n (axisymmetry)
             for (Index e = group_begin_[at(first + i)]; e < group_begin_[at(first + i + 1)]; ++e) {
               const Index p = stencil_points_[at(e)][1];
               const auto s = at(p);
@@ -143,10 +144,14 @@ private:
               map_of_step.for_each_node_of(p, [&](Index, double w, const V& grad) {
                 if constexpr (Axisymmetric)
                   hoop[k] = w / trial.radius_n(s);
+                weights[k] = w;
                 grads.col(k++) = grad;
               });
               add_point_stiffness<Dim, Axisymmetric, kNodes>(
                   grads, hoop, trial.point_step_tangent(s), P.volume0[s], K);
+              if (const V water = trial.water_force(s); !water.isZero(0.0))
+                add_water_stiffness<Dim, Axisymmetric, kNodes>(weights, grads, hoop,
+                                                               trial.step_gradient(s), water, K);
             }
           },
           8);

@@ -9,8 +9,8 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/parallel.hpp"
 #include "talus/grid/particle_grid_map.hpp"
+#include "talus/scene/pore_water.hpp"
 #include "talus/scene/scene.hpp"
-#include "talus/scene/water_table.hpp"
 #include "talus/solver/failure_hints.hpp"
 #include "talus/solver/particle_share.hpp"
 
@@ -48,17 +48,21 @@ public:
     valid_ = false;
   }
 
-  /// A new step on `map`'s nodes: F-bar's cells at the points' start positions, and the pore
-  /// pressure of each point there, held through the step, times `water_factor` (the gravity's
-  /// load factor at the step's end: hydrostatic pressure grows with the weight).
-  void prepare(const ParticleGridMap<Dim, Shape>& map, double water_factor) {
+  /// A new step on `map`'s nodes: F-bar's cells at the points' start positions, and the
+  /// water's pore pressure u and gradient at each point there (scene.water at its progress),
+  /// held through the step.
+  void prepare(const ParticleGridMap<Dim, Shape>& map) {
     if (f_bar_)
       f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
-    if (water_) {
-      const auto& x = scene_.particles.x;
-      pore_pressure_.resize(x.size());
-      for (std::size_t s = 0; s < x.size(); ++s)
-        pore_pressure_[s] = water_factor * water_->pore_pressure<Dim>(x[s]);
+    const PoreWater& water = scene_.water;
+    if (water.any()) {
+      const auto& P = scene_.particles;
+      pore_pressure_.resize(P.x.size());
+      water_force_.resize(P.x.size());
+      for (std::size_t s = 0; s < P.x.size(); ++s) {
+        pore_pressure_[s] = water.pore_pressure<Dim>(P.x[s]);
+        water_force_[s] = P.volume[s] * water.pressure_gradient<Dim>(P.x[s]);
+      }
     }
     valid_ = false;
     rejection_.clear();
@@ -115,32 +119,38 @@ public:
       rejection_ = e.what();
       return false;
     }
-    if (water_)
-      parallel_for(share.size(), [&](Index i) { add_pore_pressure(at(share.begin + i)); });
     valid_ = true;
     share_ = share;
     du_ = du;
     return true;
   }
 
-  /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's internal
-  /// force at its trial state: V0 G grad N, G = tau dF^-T the step's first Piola stress (and
-  /// F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the radial component.
+  /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's force on
+  /// the grid at its trial state: V0 G grad N, G = tau' dF^-T the step's first Piola stress of
+  /// the effective stress (and F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the
+  /// radial component; with water, plus N V grad u (pore_water.hpp), V = det(dF) V_n the
+  /// point's current volume.
   template <class F>
   void for_each_internal_force(const ParticleGridMap<Dim, Shape>& map, Index p, F&& f) const {
     const auto s = at(p);
-    const Mat3 dF_inv = step_gradient(s).inverse();
+    const Mat3 dF = step_gradient(s);
+    const Mat3 dF_inv = dF.inverse();
     const Mat3 G =
         scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
     const M G2 = G.topLeftCorner<Dim, Dim>();
     [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
+    const V water = water_force_.empty() ? V::Zero() : V(dF.determinant() * water_force_[s]);
     map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
-      V force = G2 * grad;
+      V force = G2 * grad + w * water;
       if constexpr (Axisymmetric)
         force[0] += hoop_per_weight * w;
       f(n, w, force);
     });
   }
+
+  /// V_n grad u of point s: the water's force on the point per unit of det(dF) (zero in a dry
+  /// step or above the water).
+  V water_force(std::size_t s) const { return water_force_.empty() ? V::Zero() : water_force_[s]; }
 
   /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
   StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
@@ -164,31 +174,13 @@ public:
   }
   const Mat3& F(std::size_t s) const { return F_[s]; }
   const Mat3& kirchhoff(std::size_t s) const { return response_[s].kirchhoff; }
-  /// The pore pressure the trial stress of point s holds (with water; the step's).
+  /// The pore pressure u of point s in this step (with water).
   double pore_pressure(std::size_t s) const { return pore_pressure_[s]; }
 
   /// F-bar in the step, or null without it: its cells couple the tangent's points.
   FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
 
 private:
-  /// The material gave the effective stress; the point carries the total one, tau = tau' -
-  /// J u I, with u fixed within the step (it moves with the point between steps), so that
-  /// d(tau_ii)/dF gains -u dJ/dF = -u J F^-T.
-  void add_pore_pressure(std::size_t s) {
-    const double u = pore_pressure_[s];
-    if (u == 0.0)
-      return;
-    const double J = F_[s].determinant();
-    const Mat3 dJ_dF = J * F_[s].inverse().transpose();
-    StressTangent& r = response_[s];
-    for (int i = 0; i < 3; ++i) {
-      r.kirchhoff(i, i) -= J * u;
-      for (int k = 0; k < 3; ++k)
-        for (int l = 0; l < 3; ++l)
-          r.dtau_dF(3 * i + i, 3 * k + l) -= u * dJ_dF(k, l);
-    }
-  }
-
   /// The share's points of material m (the material's list is ascending).
   std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
     const auto& ids = scene_.particles_of_material[m];
@@ -197,8 +189,8 @@ private:
   }
 
   Scene<Dim>& scene_;
-  std::optional<WaterTable> water_ = WaterTable::of(scene_.spec);
   std::vector<double> pore_pressure_; ///< per point: u in this step (with water only)
+  std::vector<V> water_force_;        ///< per point: V_n grad u in this step (with water only)
   bool f_bar_ = false;                ///< F-bar volume averaging per cell (f_bar.hpp)
   FBarStep<Dim, Axisymmetric> f_bar_step_;
   std::vector<M> dF_;

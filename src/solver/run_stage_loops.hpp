@@ -6,6 +6,7 @@
 #include "newton_log.hpp"
 #include "run_recorder.hpp"
 #include "run_state.hpp"
+#include "stage_water.hpp"
 #include "talus/core/errors.hpp"
 #include "talus/material/plastic_material.hpp"
 #include "talus/scene/scene.hpp"
@@ -289,7 +290,7 @@ void run_explicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
 template <int Dim>
 void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult& result,
                   const std::filesystem::path& out_dir, StageWatch& watch,
-                  StageStrength<Dim>& strength, bool loads_ramp,
+                  StageStrength<Dim>& strength, StageWater<Dim>& water, bool loads_ramp,
                   const std::filesystem::path& dump_tangent) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
   if (s.measure_stiffness)
@@ -360,6 +361,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       const bool dynamic = scene.spec.analysis == AnalysisType::ImplicitDynamic;
       const double ramp = loads_ramp ? t_end / time.end_time : 1.0;
       strength.at(t_end / time.end_time);
+      water.at(t_end / time.end_time);
       watch.before_step(scene.particles);
       const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
       newton_iterations += r.iterations;

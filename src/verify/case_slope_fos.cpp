@@ -33,19 +33,8 @@ namespace {
 
 constexpr double kReferenceFactor = 1.4; // Griffiths & Lane (1999), example 1
 
-FosRunResult search(const VerificationContext& ctx, const CaseSpec& spec, const std::string& name) {
-  FosOptions options;
-  options.out_dir = ctx.out_dir / name;
-  options.force = true;
-  options.threads = ctx.threads;
-  FosRunResult r = run_factor_of_safety(spec, options);
-  if (!r.fos.bracketed)
-    throw NumericalError("strength reduction found no bracket: " + r.fos.message);
-  return r;
-}
+} // namespace
 
-// The section of verification/slope_3d_end_walls.yaml for Bishop's method: the prism's
-// face from crest (12, 10) to toe (32, 0), its material and gravity.
 SlopeSection griffiths_lane_section(const CaseSpec& spec) {
   const MaterialSpec& soil = spec.materials.front();
   SlopeSection s;
@@ -55,8 +44,14 @@ SlopeSection griffiths_lane_section(const CaseSpec& spec) {
   s.unit_weight = soil.density * spec.gravity.norm();
   s.cohesion = soil.cohesion;
   s.tan_phi = std::tan(soil.friction_angle * std::acos(-1.0) / 180);
+  if (spec.water) {
+    s.water_level = spec.water->phreatic.front()[1];
+    s.water_unit_weight = spec.water->unit_weight;
+  }
   return s;
 }
+
+namespace {
 
 constexpr int kPerturbations = 3;           ///< E (1 + k step) for k = -3 .. 3
 constexpr double kPerturbationStep = 1e-12; ///< relative: of the order of round-off
@@ -85,7 +80,8 @@ Ensemble plane_strain_ensemble(const VerificationContext& ctx, const CaseSpec& s
     CaseSpec perturbed = spec;
     for (MaterialSpec& m : perturbed.materials)
       m.youngs_modulus *= 1 + k * kPerturbationStep;
-    e.factors.push_back(search(ctx, perturbed, fmt::format("{}_k{}", name, k)).fos.value());
+    e.factors.push_back(
+        bracketed_search(ctx, perturbed, fmt::format("{}_k{}", name, k)).fos.value());
   }
   return e;
 }
@@ -103,10 +99,10 @@ VerificationCase slope_fos() {
   vc.tiers = {"fast", "full"};
   vc.run = [](const VerificationContext& ctx) {
     const CaseSpec spec = load_verification_case(ctx);
-    const FosRunResult r = search(ctx, spec, "search");
+    const FosRunResult r = bracketed_search(ctx, spec, "search");
     CaseSpec incremental_spec = spec;
     incremental_spec.strength_reduction->mode = StrengthReductionMode::Incremental;
-    const FosRunResult inc = search(ctx, incremental_spec, "incremental");
+    const FosRunResult inc = bracketed_search(ctx, incremental_spec, "incremental");
     const auto bracket = [&](const FosRunResult& run) {
       return fmt::format("bracket [{:.4f}, {:.4f}], h = {:g} m", run.fos.lower, run.fos.upper,
                          spec.grid.cell_size);
@@ -169,13 +165,13 @@ VerificationCase slope_fos_slab_3d() {
       keys.insert(keys.end(), {resolution, "solver.shape=gimp", "materials.0.dilation_angle=0"});
       return read_case_file(plane_strain, keys);
     };
-    const FosRunResult slab = search(ctx, load_verification_case(ctx), "slab");
+    const FosRunResult slab = bracketed_search(ctx, load_verification_case(ctx), "slab");
     const Ensemble spread = plane_strain_ensemble(
         ctx, plane({"solver.f_bar=true", "solver.f_bar_out_of_plane=true"}), "plane_strain");
     const FosRunResult in_plane =
-        search(ctx, plane({"solver.f_bar=true"}), "plane_strain_in_plane");
-    const FosRunResult slab_plain =
-        search(ctx, load_verification_case(ctx, {"solver.f_bar=false"}), "slab_without_f_bar");
+        bracketed_search(ctx, plane({"solver.f_bar=true"}), "plane_strain_in_plane");
+    const FosRunResult slab_plain = bracketed_search(
+        ctx, load_verification_case(ctx, {"solver.f_bar=false"}), "slab_without_f_bar");
     const Ensemble plain =
         plane_strain_ensemble(ctx, plane({"solver.f_bar=false"}), "plane_strain_without_f_bar");
     const auto note = [](const FosRunResult& r, const Ensemble& e) {
@@ -235,9 +231,9 @@ VerificationCase slope_3d_end_walls() {
   vc.tiers = {"full"};
   vc.run = [](const VerificationContext& ctx) {
     const CaseSpec spec = load_verification_case(ctx);
-    const FosRunResult walls = search(ctx, spec, "end_walls");
+    const FosRunResult walls = bracketed_search(ctx, spec, "end_walls");
     const FosRunResult rollers =
-        search(ctx, load_verification_case(ctx, {"boundaries.z_min=roller"}), "rollers");
+        bracketed_search(ctx, load_verification_case(ctx, {"boundaries.z_min=roller"}), "rollers");
     const SlopeSection section = griffiths_lane_section(spec);
     const double width = 2 * spec.grid.extent.z(); // the model is half of the width
     const double nu = spec.materials.front().poisson_ratio;

@@ -29,4 +29,16 @@ RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int 
   return r;
 }
 
+FosRunResult bracketed_search(const VerificationContext& ctx, const CaseSpec& spec,
+                              const std::string& name) {
+  FosOptions options;
+  options.out_dir = ctx.out_dir / name;
+  options.force = true;
+  options.threads = ctx.threads;
+  FosRunResult r = run_factor_of_safety(spec, options);
+  if (!r.fos.bracketed)
+    throw NumericalError("strength reduction found no bracket: " + r.fos.message);
+  return r;
+}
+
 } // namespace talus::verify_cases

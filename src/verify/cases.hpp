@@ -2,6 +2,7 @@
 // Factories of the verification cases (one file each) and helpers they share.
 #include "talus/io/results.hpp"
 #include "talus/solver/run.hpp"
+#include "talus/solver/strength_reduction.hpp"
 #include "talus/verify/verification.hpp"
 
 namespace talus::verify_cases {
@@ -36,6 +37,7 @@ VerificationCase lame_cylinder();
 VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
+VerificationCase slope_drawdown();
 VerificationCase slope_fos_refinement();
 VerificationCase slope_fos_refinement_c5_phi30();
 VerificationCase slope_fos_refinement_steep();
@@ -55,6 +57,11 @@ VerificationCase stability_perturbed();
 
 /// Runs a verification scene quietly into `dir`, throwing if it did not complete.
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads);
+
+/// Searches the factor of safety of `spec` into ctx.out_dir / name, throwing if no bracket was
+/// found.
+FosRunResult bracketed_search(const VerificationContext& ctx, const CaseSpec& spec,
+                              const std::string& name);
 
 /// Runs the case's scene with `overrides` into ctx.out_dir / run and returns the Cauchy stress
 /// of its first point in the last frame (the single-element cases, whose points all agree).

@@ -19,6 +19,15 @@ double surface_height(const SlopeSection& s, double x) {
   return s.surface_y[k - 1] + t * (s.surface_y[k] - s.surface_y[k - 1]);
 }
 
+// The effective vertical stress at depth in the column at x, from y up to the ground: its weight
+// less the water's buoyancy below the water level. With the same level inside the slope and in
+// front of it (water at rest), this is the total weight, the water on the face and the pore
+// pressure on the slip surface taken together.
+double effective_weight(const SlopeSection& s, double ground, double y) {
+  const double submerged = std::max(0.0, std::min(ground, s.water_level) - y);
+  return s.unit_weight * (ground - y) - s.water_unit_weight * submerged;
+}
+
 // Columns over the chord of each circle, sub-layers of each for the end planes, and strips over
 // the half-width for surfaces of revolution: fine enough that halving the first two changes the
 // factors by at most 0.15 % and the 3D / 2D ratio by at most 0.2 %, and halving or doubling the
@@ -46,10 +55,10 @@ double add_columns(const SlopeSection& s, double cx, double cy, double r, double
   for (int i = 0; i < kSlices; ++i) {
     const double x = cx - r + (i + 0.5) * b;
     const double depth = std::sqrt(std::max(0.0, r * r - (x - cx) * (x - cx)));
-    const double h = surface_height(s, x) - (cy - depth);
-    if (h <= 0)
+    const double ground = surface_height(s, x);
+    if (ground <= cy - depth)
       continue;
-    const double weight = s.unit_weight * h * b * dz;
+    const double weight = effective_weight(s, ground, cy - depth) * b * dz;
     const double normal_y = depth / r / steepness;
     columns.push_back({(cx - x) / r, normal_y, r, b * dz / normal_y, weight});
     moment += weight * (cx - x);
@@ -74,7 +83,7 @@ double end_plane_moment(const SlopeSection& s, double cx, double cy, double r,
     for (int j = 0; j < kEndLayers; ++j) {
       const double y = base + (j + 0.5) * dy;
       const double strength =
-          s.cohesion + end_stress_ratio * s.unit_weight * (ground - y) * s.tan_phi;
+          s.cohesion + end_stress_ratio * effective_weight(s, ground, y) * s.tan_phi;
       moment += strength * std::hypot(x - cx, y - cy) * b * dy;
     }
   }

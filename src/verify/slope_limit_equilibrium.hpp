@@ -11,6 +11,8 @@
 //    Hungr's (1987, Geotechnique 37(1)) extension of Bishop's method to columns: a cylinder
 //    as p grows, an ellipsoid at p = 2; L > W leaves end planes of radius r(0) on the walls.
 // The minimum over each family is found by a grid of trial surfaces refined by a pattern search.
+#include "talus/spec/case_spec.hpp"
+
 #include <limits>
 #include <vector>
 
@@ -21,9 +23,17 @@ struct SlopeSection {
   std::vector<double> surface_x, surface_y;
   double base_y = 0;      ///< firm base: slip surfaces reach no lower
   double unit_weight = 0; ///< gamma
-  double cohesion = 0;    ///< c'
-  double tan_phi = 0;     ///< tan(phi')
+  /// Water at rest at this level in the slope and in front of it (none: below everything).
+  double water_level = -std::numeric_limits<double>::infinity();
+  double water_unit_weight = 0; ///< gamma_w
+  double cohesion = 0;          ///< c'
+  double tan_phi = 0;           ///< tan(phi')
 };
+
+/// Griffiths & Lane's (1999) slope (verification/slope_fos.yaml: the face from the crest
+/// (12, 10) to the toe (32, 0) on a firm base at y = 0) with the soil and gravity of `spec`,
+/// and its water at rest at the water table's level (a level table) when it has one.
+SlopeSection griffiths_lane_section(const CaseSpec& spec);
 
 struct SlipCircle {
   double factor = 0; ///< the factor of safety of this circle

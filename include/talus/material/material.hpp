@@ -160,4 +160,10 @@ public:
 
 std::unique_ptr<Material> make_material(const MaterialSpec& spec);
 
+/// Whether a case's implicit tangent is symmetric, so that Cholesky can solve it: no F-bar (it
+/// couples a cell's points through their mean volume change), no material whose tangent is
+/// not (non-associated flow, softening), and no water (its pressure gradient acts on the
+/// points' current volume: water_stiffness.hpp).
+bool symmetric_implicit_tangent(const CaseSpec& spec);
+
 } // namespace talus

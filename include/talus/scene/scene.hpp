@@ -8,6 +8,7 @@
 #include "talus/grid/surface_load.hpp"
 #include "talus/material/material.hpp"
 #include "talus/parallel/decomposition.hpp"
+#include "talus/scene/pore_water.hpp"
 #include "talus/spec/case_spec.hpp"
 
 #include <array>
@@ -34,6 +35,8 @@ template <int Dim> struct Scene {
   PrescribedBoxes<Dim> prescribed_boxes;
   std::vector<SurfaceLoad<Dim>> surface_loads; ///< the tractions, per loaded point
   std::vector<Index> probe_particles;          ///< one particle per ProbeSpec, same order
+  /// The water acting now: the case's at rest, or moving during a stage (the run sets it).
+  PoreWater water;
   std::vector<std::string> probe_names;
   /// The split of the cells over the run's ranks: one rank owning everything (build_scene),
   /// until a distributed run partitions the scene. Each rank's scene then holds its own points

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace talus {
@@ -28,15 +29,8 @@ public:
 
   /// The phreatic surface's height above x: linear between its points, level beyond its ends.
   double level(double x) const {
-    if (x <= surface_.front()[0])
-      return surface_.front()[1];
-    if (x >= surface_.back()[0])
-      return surface_.back()[1];
-    const auto above = std::upper_bound(surface_.begin(), surface_.end(), x,
-                                        [](double v, const auto& p) { return v < p[0]; });
-    const auto& [x1, y1] = *above;
-    const auto& [x0, y0] = *(above - 1);
-    return y0 + (y1 - y0) * (x - x0) / (x1 - x0);
+    const auto [start, slope] = segment(x);
+    return (*start)[1] + slope * (x - (*start)[0]);
   }
 
   /// u at position x, Pa.
@@ -44,9 +38,33 @@ public:
     return unit_weight_ * std::max(0.0, level(x[0]) - x[1]);
   }
 
+  /// grad u at position x, Pa/m: gamma_w (dy_w/dx, -1) below the surface, zero above it.
+  template <int Dim> Vec<Dim> pressure_gradient(const Vec<Dim>& x) const {
+    Vec<Dim> g = Vec<Dim>::Zero();
+    if (level(x[0]) > x[1]) {
+      g[0] = unit_weight_ * segment(x[0]).second;
+      g[1] = -unit_weight_;
+    }
+    return g;
+  }
+
 private:
+  using Point = std::array<double, 2>;
+  /// The point the surface's piece above x starts from, and the piece's slope (zero beyond the
+  /// polyline's ends).
+  std::pair<std::vector<Point>::const_iterator, double> segment(double x) const {
+    if (x <= surface_.front()[0])
+      return {surface_.begin(), 0.0};
+    if (x >= surface_.back()[0])
+      return {surface_.end() - 1, 0.0};
+    const auto above = std::upper_bound(surface_.begin(), surface_.end(), x,
+                                        [](double v, const Point& p) { return v < p[0]; });
+    const auto start = above - 1;
+    return {start, ((*above)[1] - (*start)[1]) / ((*above)[0] - (*start)[0])};
+  }
+
   double unit_weight_;
-  std::vector<std::array<double, 2>> surface_;
+  std::vector<Point> surface_;
 };
 
 } // namespace talus

@@ -5,6 +5,7 @@
 #include "talus/core/errors.hpp"
 #include "talus/core/types.hpp"
 
+#include <algorithm>
 #include <array>
 #include <map>
 #include <optional>
@@ -370,6 +371,10 @@ struct StageSpec {
   std::optional<double> strength_factor;
   std::optional<double> wall_time_limit; ///< s; the run stops (interrupted) past it
   std::optional<RestCriterion> at_rest;  ///< dynamic stages: end once the body is at rest
+  /// The water table at the end of the stage: a quasi-static stage moves the pore pressure
+  /// linearly from the previous stage's table (the case's before the first), a dynamic one
+  /// sets it at its first step. Absent: the previous stage's.
+  std::optional<WaterSpec> water;
   SourceLocation where;
 };
 
@@ -411,6 +416,14 @@ struct CaseSpec {
   const SourceLocation& location_of(const std::string& key, const SourceLocation& fallback) const {
     const auto found = locations.find(key);
     return found != locations.end() ? found->second : fallback;
+  }
+
+  /// Whether a body starts from a geostatic stress, which balances the full weight: the weight
+  /// (and its pore water) then acts in full from the first load step instead of growing.
+  bool starts_geostatic() const {
+    return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) {
+      return b.initial_stress && b.initial_stress->kind == BodySpec::InitialStress::Kind::Geostatic;
+    });
   }
 };
 
