@@ -11,6 +11,7 @@
 
 #include "cli_support.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -113,13 +114,19 @@ TEST(WaterInput, BadWaterIsRefusedAtItsKey) {
   EXPECT_TRUE(has(e.what(), "water needs gravity along -y")) << e.what();
 }
 
+/// The block (saturated below the table: 2100 kg/m^3) from a geostatic stress, the water table
+/// at y = level.
+Scene<2> geostatic_block(double level) {
+  return build_scene<2>(
+      read_case_text(block(fmt::format("water: {{unit_weight: 1.0e4, level: {}}}\n", level),
+                           ", saturated_density: 2100", ", initial_stress: {type: geostatic}"),
+                     "case.yaml"));
+}
+
 // Free water standing on a body adds its weight to the geostatic total stress, not to the
 // effective one: the block's top at y = 3 under 1 m of water (level 4).
 TEST(WaterInput, PondedWaterAddsItsWeightToTheTotalStressOnly) {
-  const Scene<2> scene = build_scene<2>(
-      read_case_text(block("water: {unit_weight: 1.0e4, level: 4}\n", ", saturated_density: 2100",
-                           ", initial_stress: {type: geostatic}"),
-                     "case.yaml"));
+  const Scene<2> scene = geostatic_block(4);
   const auto& P = scene.particles;
   for (std::size_t s = 0; s < P.x.size(); ++s) {
     const double depth = 3.0 - P.x[s][1];
@@ -137,10 +144,7 @@ TEST(WaterInput, PondedWaterAddsItsWeightToTheTotalStressOnly) {
 // the total stress sigma' - u I. Hand-computed for the point nearest (1, 0.5): 2.5 m of soil
 // above it, 1 m of it dry (1800 kg/m^3), 1.5 m saturated (2100), the water table at y = 2.
 TEST(WaterInput, SaturatedWeightAndGeostaticEffectiveStress) {
-  const Scene<2> scene = build_scene<2>(
-      read_case_text(block("water: {unit_weight: 1.0e4, level: 2}\n", ", saturated_density: 2100",
-                           ", initial_stress: {type: geostatic}"),
-                     "case.yaml"));
+  const Scene<2> scene = geostatic_block(2);
   const auto& P = scene.particles;
   for (std::size_t s = 0; s < P.x.size(); ++s) {
     const double expected = P.x[s][1] < 2.0 ? 2100.0 : 1800.0;
