@@ -85,6 +85,7 @@ const Choices<OutputField>& output_field_choices() {
                                       {"material", OutputField::Material},
                                       {"plastic_strain", OutputField::PlasticStrain},
                                       {"pore_pressure", OutputField::PorePressure},
+                                      {"effective_stress", OutputField::EffectiveStress},
                                       {"reference_position", OutputField::ReferencePosition}};
   return c;
 }

@@ -296,6 +296,14 @@ inline constexpr DatasetInfo kPorePressure{
     "pore pressure u (compression positive) that the total stress holds: the effective stress "
     "is stress + u I",
     "Scalar"};
+inline constexpr DatasetInfo kEffectiveStress{"effective_stress",
+                                              6,
+                                              false,
+                                              "Pa",
+                                              "effective stress stress + u I, symmetric, XDMF "
+                                              "Tensor6 order (xx, xy, xz, yy, yz, zz); tension "
+                                              "positive: what the material acts on",
+                                              "Tensor6"};
 inline constexpr DatasetInfo kReferencePosition{
     "reference_position",
     2,
@@ -383,6 +391,8 @@ inline std::vector<DatasetInfo> frame_datasets(const std::vector<OutputField>& f
     out.push_back(in_dimension(kReferencePosition, dimension));
   if (has(OutputField::PorePressure))
     out.push_back(kPorePressure);
+  if (has(OutputField::EffectiveStress))
+    out.push_back(kEffectiveStress);
   return out;
 }
 

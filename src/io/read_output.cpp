@@ -7,8 +7,10 @@ OutputSpec default_output(bool any_plastic, bool water) {
   OutputSpec o;
   if (any_plastic)
     o.fields.push_back(OutputField::PlasticStrain);
-  if (water)
+  if (water) {
     o.fields.push_back(OutputField::PorePressure);
+    o.fields.push_back(OutputField::EffectiveStress);
+  }
   return o;
 }
 
@@ -40,8 +42,9 @@ OutputSpec Validator::output(const Item& it, bool any_plastic, bool water) const
       const OutputField field = choice(f, output_field_choices());
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
         fail(f, "field '" + shown(f.node.Scalar()) + "' is listed twice");
-      if (field == OutputField::PorePressure && !water)
-        fail(f, "field 'pore_pressure' needs a water section");
+      if ((field == OutputField::PorePressure || field == OutputField::EffectiveStress) &&
+          !water)
+        fail(f, "field '" + shown(f.node.Scalar()) + "' needs a water section");
       if (field == OutputField::PlasticStrain && !any_plastic)
         fail(f, "field 'plastic_strain' needs an elasto-plastic material (von_mises, tresca, "
                 "mohr_coulomb, drucker_prager); every material of this case is elastic");

@@ -234,6 +234,11 @@ FrameSource frame_source(const std::string& name, const Particles<Dim>& p,
               for (const Mat3& s : p.stress)
                 append_tensor6(buf, s);
             }};
+  if (name == "effective_stress")
+    return {"effective stress", p.stress.size(), [&p](std::vector<double>& buf) {
+              for (std::size_t s = 0; s < p.stress.size(); ++s)
+                append_tensor6(buf, p.stress[s] + p.pore_pressure[s] * Mat3::Identity());
+            }};
   if (name == "material")
     return {"material", p.material.size(), {}, &p.material};
   if (name == "body")

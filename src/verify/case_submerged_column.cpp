@@ -11,9 +11,10 @@
 // settlement 0.37 %, 0.073 %, 0.010 % (orders 2.4 and 2.8). Checks: the stress orders in
 // [0.8, 1.2], the stress error at H/32 at most 3 % (2.2x) and the settlement error at most
 // 0.03 % (2.9x). The stress guards the saturated weight and the balance (sigma_yy + u is right
-// for any total stress that balances it); the settlement guards the effective stress: with u
-// left out of the points' stress it is 100 % wrong (tried). A ponded run (free water H/4 deep)
-// must give the same effective stress and settlement to round-off.
+// for any total stress that balances it); the settlement guards the water's force in the
+// balance: without it the column settles as a dry one of the same weight, 100 % more (the
+// formula; the same break fails slope_drawdown). A ponded run (free water H/4 deep) must give
+// the same effective stress and settlement to round-off.
 #include "cases.hpp"
 
 #include <cmath>

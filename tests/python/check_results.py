@@ -37,6 +37,8 @@ FIELDS = {
     "material": (0, 1, 1),
     "body": (0, 1, 1),
     "plastic_strain": (0, 1, 1),
+    "pore_pressure": (0, 1, 1),
+    "effective_stress": (6, 9, 6),
 }
 
 
@@ -164,7 +166,7 @@ def check_vtk(kind, reader_class, xmf, n, k, fields, frames):
             expect(got == want, f"frame {i}: '{name}' has {got} components, expected {want}")
             values = vtk_to_numpy(arrays[name]).reshape(n, -1)
             ref = h5[name].reshape(n, -1)
-            if name == "stress" and got == 9:
+            if name in ("stress", "effective_stress") and got == 9:
                 # Tensor6 (xx, xy, xz, yy, yz, zz) expanded to the full symmetric tensor.
                 t6 = [0, 1, 2, 4, 5, 8]
                 ok = np.array_equal(values[:, t6], ref) and np.array_equal(

@@ -275,7 +275,7 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
       with(kCase, "[velocity, F, stress]", "[velocity, f, stress]"),
       {"case.yaml", 52, 22, "output.fields[1]",
        "unknown value 'f' (allowed: velocity, mass, volume, F, stress, material, plastic_strain, "
-       "pore_pressure, reference_position)"});
+       "pore_pressure, effective_stress, reference_position)"});
 }
 
 TEST(CaseReaderErrors, UnsupportedAnalysisAndDimension) {

@@ -279,9 +279,9 @@ TEST(WaterInput, AStageWaterNeedsTheCaseWater) {
   EXPECT_TRUE(has(e.what(), "a top-level water section")) << e.what();
 }
 
-// Frames write the pore pressure the total stress holds: in a quasi-static run with ramped
-// gravity, u of the step, ramped with the weight and taken where the point stood at the step's
-// start (the frame before). Two load steps of half the weight each.
+// Frames write the pore pressure the total stress holds, and the effective stress: in a
+// quasi-static run with ramped gravity, u of the step, ramped with the weight and taken where the
+// point stood at the step's start (the frame before). Two load steps of half the weight each.
 TEST_F(WaterRun, FramesWriteThePorePressureTheStressHolds) {
   write_file(work() / "case.yaml",
              block("water: {unit_weight: 1.0e4, level: 2}\n", ", saturated_density: 2100") +
@@ -305,6 +305,20 @@ TEST_F(WaterRun, FramesWriteThePorePressureTheStressHolds) {
       EXPECT_NEAR(u[s], expected, 1e-9 * (1.0 + expected)) << "frame " << frame << " point " << p;
     }
     EXPECT_GT(wet, 0);
+  }
+  // effective_stress is stress + u I (Tensor6: xx, xy, xz, yy, yz, zz), written by default.
+  for (const Index frame : {0, 1, 2}) {
+    Index n6 = 0;
+    const auto u = results.read(frame, "pore_pressure", &rows, &cols);
+    const auto stress = results.read(frame, "stress", &rows, &n6);
+    const auto effective = results.read(frame, "effective_stress", &rows, &n6);
+    ASSERT_EQ(n6, 6);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(rows); ++p)
+      for (std::size_t k = 0; k < 6; ++k) {
+        const bool diagonal = k == 0 || k == 3 || k == 5;
+        EXPECT_EQ(effective[6 * p + k], stress[6 * p + k] + (diagonal ? u[p] : 0.0))
+            << "frame " << frame << " point " << p << " component " << k;
+      }
   }
   // Frame 0: no weight yet, no pore pressure.
   const auto u0 = results.read(0, "pore_pressure", &rows, &cols);

@@ -260,7 +260,8 @@ enum class OutputField {
   Material,
   PlasticStrain,
   ReferencePosition, ///< x0, the position in the reference configuration (displacement x - x0)
-  PorePressure       ///< u, the pore pressure the total stress holds (a case with water)
+  PorePressure,      ///< u, the pore pressure the total stress holds (a case with water)
+  EffectiveStress    ///< sigma' = sigma + u I (a case with water)
 };
 
 /// output.checkpoint: when a run saves the state it can resume from (talus run --resume);
@@ -275,7 +276,8 @@ struct OutputSpec {
   std::optional<Index> every_steps; ///< write a frame every N steps; default: 20 frames per run
   std::optional<double> every_time; ///< s, write a frame every interval
   /// Default: the six kinematic and stress fields, plus plastic_strain when any material is
-  /// elasto-plastic and pore_pressure when the case has water (the reader adds them).
+  /// elasto-plastic and pore_pressure and effective_stress when the case has water (the reader
+  /// adds them).
   std::vector<OutputField> fields{OutputField::Velocity, OutputField::Mass,
                                   OutputField::Volume,   OutputField::DeformationGradient,
                                   OutputField::Stress,   OutputField::Material};
