@@ -42,8 +42,7 @@ OutputSpec Validator::output(const Item& it, bool any_plastic, bool water) const
       const OutputField field = choice(f, output_field_choices());
       if (std::find(o.fields.begin(), o.fields.end(), field) != o.fields.end())
         fail(f, "field '" + shown(f.node.Scalar()) + "' is listed twice");
-      if ((field == OutputField::PorePressure || field == OutputField::EffectiveStress) &&
-          !water)
+      if ((field == OutputField::PorePressure || field == OutputField::EffectiveStress) && !water)
         fail(f, "field '" + shown(f.node.Scalar()) + "' needs a water section");
       if (field == OutputField::PlasticStrain && !any_plastic)
         fail(f, "field 'plastic_strain' needs an elasto-plastic material (von_mises, tresca, "

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace talus {
@@ -139,13 +140,23 @@ public:
         scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
     const M G2 = G.topLeftCorner<Dim, Dim>();
     [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
-    const V water = water_force_.empty() ? V::Zero() : V(dF.determinant() * water_force_[s]);
-    map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
-      V force = G2 * grad + w * water;
-      if constexpr (Axisymmetric)
-        force[0] += hoop_per_weight * w;
-      f(n, w, force);
-    });
+    // A dry step adds nothing per node (and stays bitwise the dry force).
+    const auto visit = [&](auto wet) {
+      [[maybe_unused]] const V water =
+          wet ? V(dF.determinant() * water_force_[s]) : V::Zero().eval();
+      map.for_each_node_of(p, [&](Index n, double w, const V& grad) {
+        V force = G2 * grad;
+        if constexpr (decltype(wet)::value)
+          force += w * water;
+        if constexpr (Axisymmetric)
+          force[0] += hoop_per_weight * w;
+        f(n, w, force);
+      });
+    };
+    if (water_force_.empty())
+      visit(std::false_type{});
+    else
+      visit(std::true_type{});
   }
 
   /// V_n grad u of point s: the water's force on the point per unit of det(dF) (zero in a dry

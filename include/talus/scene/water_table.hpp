@@ -28,10 +28,7 @@ public:
   double unit_weight() const { return unit_weight_; }
 
   /// The phreatic surface's height above x: linear between its points, level beyond its ends.
-  double level(double x) const {
-    const auto [start, slope] = segment(x);
-    return (*start)[1] + slope * (x - (*start)[0]);
-  }
+  double level(double x) const { return height(segment(x), x); }
 
   /// u at position x, Pa.
   template <int Dim> double pore_pressure(const Vec<Dim>& x) const {
@@ -40,9 +37,10 @@ public:
 
   /// grad u at position x, Pa/m: gamma_w (dy_w/dx, -1) below the surface, zero above it.
   template <int Dim> Vec<Dim> pressure_gradient(const Vec<Dim>& x) const {
+    const auto piece = segment(x[0]);
     Vec<Dim> g = Vec<Dim>::Zero();
-    if (level(x[0]) > x[1]) {
-      g[0] = unit_weight_ * segment(x[0]).second;
+    if (height(piece, x[0]) > x[1]) {
+      g[0] = unit_weight_ * piece.second;
       g[1] = -unit_weight_;
     }
     return g;
@@ -61,6 +59,12 @@ private:
                                         [](double v, const Point& p) { return v < p[0]; });
     const auto start = above - 1;
     return {start, ((*above)[1] - (*start)[1]) / ((*above)[0] - (*start)[0])};
+  }
+
+  /// The surface's height at x on its piece `piece` (from segment(x)).
+  static double height(const std::pair<std::vector<Point>::const_iterator, double>& piece,
+                       double x) {
+    return (*piece.first)[1] + piece.second * (x - (*piece.first)[0]);
   }
 
   double unit_weight_;
