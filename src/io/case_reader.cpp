@@ -242,6 +242,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
            "material '" + spec.materials[k].name +
                "' has a saturated weight (saturated_density or saturated_unit_weight) but the "
                "case has no water section, the phreatic surface below which it applies");
+  check_consolidation(top, spec);
   if (top.present("boundaries"))
     spec.boundaries = boundaries(top["boundaries"]);
   if (top.present("point_loads"))
@@ -284,6 +285,46 @@ CaseSpec Validator::read(const YAML::Node& root) const {
   check_memory(top, spec);
   spec.locations = std::move(locations_);
   return spec;
+}
+
+// A consolidation case couples every point's pore pressure to its skeleton by Newton on the
+// grid: it needs the water's unit weight, a permeability for every material (an impermeable
+// layer is a small one) and quasi-static implicit stages.
+void Validator::check_consolidation(const Map& top, const CaseSpec& spec) const {
+  const std::vector<Item> items = list(top["materials"]);
+  const auto first = [&](bool flows) {
+    return static_cast<std::size_t>(
+        std::find_if(spec.materials.begin(), spec.materials.end(),
+                     [&](const MaterialSpec& m) { return m.flow.has_value() == flows; }) -
+        spec.materials.begin());
+  };
+  const std::size_t with = first(true), without = first(false);
+  if (with == spec.materials.size())
+    return;
+  const std::string name = spec.materials[with].name;
+  if (!spec.water)
+    fail(items[with], "material '" + name +
+                          "' has a permeability (a consolidation case) but the "
+                          "case has no water section, which gives the water's unit weight");
+  if (without < spec.materials.size())
+    fail(items[without], "material '" + spec.materials[without].name +
+                             "' has no permeability, but material '" + name +
+                             "' has one: in a consolidation case every material carries pore "
+                             "water (give an impermeable layer a small permeability)");
+  const auto refuse = [&](AnalysisType a, const Item& at) {
+    if (a != AnalysisType::ImplicitQuasistatic)
+      fail(at, "material '" + name +
+                   "' has a permeability: consolidation is solved by the "
+                   "quasi-static implicit analysis (Newton on displacement and pore pressure); "
+                   "use analysis: implicit_quasistatic");
+  };
+  if (spec.stages.empty()) {
+    refuse(spec.analysis, top.has("analysis") ? top["analysis"] : top.self());
+  } else {
+    const std::vector<Item> stages = list(top["stages"]);
+    for (std::size_t k = 0; k < spec.stages.size(); ++k)
+      refuse(spec.stages[k].analysis, stages[k]);
+  }
 }
 
 std::vector<PlausibilityCheck> Validator::silenced_warnings(const Item& it) const {

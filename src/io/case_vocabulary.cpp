@@ -91,13 +91,16 @@ const Choices<OutputField>& output_field_choices() {
 }
 
 const Choices<PlausibilityCheck>& plausibility_check_choices() {
-  static const Choices<PlausibilityCheck> c{{"density", PlausibilityCheck::Density},
-                                            {"youngs_modulus", PlausibilityCheck::YoungsModulus},
-                                            {"strength", PlausibilityCheck::Strength},
-                                            {"friction_angle", PlausibilityCheck::FrictionAngle},
-                                            {"load", PlausibilityCheck::Load},
-                                            {"gravity", PlausibilityCheck::Gravity},
-                                            {"displacement", PlausibilityCheck::Displacement}};
+  static const Choices<PlausibilityCheck> c{
+      {"density", PlausibilityCheck::Density},
+      {"youngs_modulus", PlausibilityCheck::YoungsModulus},
+      {"strength", PlausibilityCheck::Strength},
+      {"friction_angle", PlausibilityCheck::FrictionAngle},
+      {"load", PlausibilityCheck::Load},
+      {"gravity", PlausibilityCheck::Gravity},
+      {"displacement", PlausibilityCheck::Displacement},
+      {"permeability", PlausibilityCheck::Permeability},
+      {"consolidation_step", PlausibilityCheck::ConsolidationStep}};
   return c;
 }
 

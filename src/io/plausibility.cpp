@@ -33,6 +33,13 @@ constexpr double kMaxStrength = 1e9;
 constexpr double kMaxFrictionAngle = 60;
 // Earth's 9.81 m/s^2; a geotechnical centrifuge reaches a few hundred g.
 constexpr double kMinGravity = 0.5, kMaxGravity = 5000;
+// Hydraulic conductivities: intact clay 1e-12 m/s, clean gravel 1e-2; an intrinsic
+// permeability in m^2 (about 1e-7 of k in m/s for water) falls far below.
+constexpr double kMinPermeability = 1e-13, kMaxPermeability = 1;
+// Equal-order u and p overshoot next to a drained face when a load or the water table changes
+// in steps shorter than about h^2 / (6 c_v) (Vermeer & Verruijt 1981's bound for linear
+// elements; docs/verification.md, terzaghi, measures the overshoot).
+constexpr double kConsolidationStepFactor = 1.0 / 6.0;
 
 /// 196 kPa, 20 MPa, 12 Pa: a stress with its SI prefix, as an engineer reads it.
 std::string pressure(double pa) {
@@ -284,6 +291,70 @@ void check_displacements(Collector& out, const CaseSpec& spec) {
   }
 }
 
+void check_permeability(Collector& out, const MaterialSpec& s, const std::string& prefix) {
+  if (!s.flow)
+    return;
+  const double k = s.flow->permeability;
+  if (k >= kMinPermeability && k <= kMaxPermeability)
+    return;
+  out.add(PlausibilityCheck::Permeability, prefix + ".permeability", s.where,
+          fmt::format("material '{}' has permeability {:g} m/s, outside [{:g}, {:g}]: Talus takes "
+                      "the hydraulic conductivity k in m/s (clay 1e-9 to 1e-7, sand 1e-5 to "
+                      "1e-3), not an intrinsic permeability in m^2",
+                      s.name, k, kMinPermeability, kMaxPermeability));
+}
+
+/// The largest c_v = k / (gamma_w (alpha^2 / M_c + 1 / M)) of the case's materials, and its
+/// material.
+double largest_consolidation_coefficient(const CaseSpec& spec, const MaterialSpec*& fastest) {
+  double largest = 0;
+  for (const MaterialSpec& m : spec.materials) {
+    const double nu = m.poisson_ratio, alpha = m.flow->biot_coefficient;
+    const double constrained = m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+    const double c_v =
+        m.flow->permeability /
+        (spec.water->unit_weight * (alpha * alpha / constrained + m.flow->inverse_biot_modulus));
+    if (c_v > largest) {
+      largest = c_v;
+      fastest = &m;
+    }
+  }
+  return largest;
+}
+
+// A stage that changes the load (the first) or the water table in steps below h^2 / (6 c_v).
+void check_consolidation_steps(Collector& out, const CaseSpec& spec) {
+  if (!spec.consolidates())
+    return;
+  const MaterialSpec* fastest = nullptr;
+  const double c_v = largest_consolidation_coefficient(spec, fastest);
+  const double h = spec.grid.cell_size;
+  const double limit = kConsolidationStepFactor * h * h / c_v;
+  const auto check = [&](const std::string& what, const TimeSpec& time, const std::string& key,
+                         const SourceLocation& where) {
+    if (!time.dt || *time.dt >= limit)
+      return;
+    out.add(PlausibilityCheck::ConsolidationStep, key, where,
+            fmt::format("{} in steps of {:g} s, shorter than h^2 / (6 c_v) = {:g} s (c_v = {:.3g} "
+                        "m^2/s of material '{}', h = {:g} m): the pore pressure overshoots next "
+                        "to drained faces after the change and settles within a few cells and "
+                        "steps; intended for an undrained load step (silence "
+                        "'consolidation_step'), otherwise use longer steps",
+                        what, *time.dt, limit, c_v, fastest->name, h));
+  };
+  if (spec.stages.empty()) {
+    check("the loads change", spec.time, "time.dt",
+          SourceLocation{spec.source_file, 0, 0, "time.dt"});
+    return;
+  }
+  for (std::size_t k = 0; k < spec.stages.size(); ++k) {
+    const StageSpec& stage = spec.stages[k];
+    if (k == 0 || stage.water)
+      check(fmt::format("stage '{}' changes the {}", stage.name, k == 0 ? "loads" : "water table"),
+            stage.time, fmt::format("stages[{}].time.dt", k), stage.where);
+  }
+}
+
 } // namespace
 
 std::vector<PlausibilityWarning> plausibility_warnings(const CaseSpec& spec) {
@@ -306,11 +377,13 @@ std::vector<PlausibilityWarning> plausibility_warnings(const CaseSpec& spec) {
     if (is_plastic(s.model))
       check_strength(out, spec, static_cast<int>(m), prefix);
     check_friction_angle(out, s, prefix);
+    check_permeability(out, s, prefix);
   }
   check_loads(out, spec);
   check_point_loads(out, spec);
   check_gravity(out, spec);
   check_displacements(out, spec);
+  check_consolidation_steps(out, spec);
   return out.take();
 }
 

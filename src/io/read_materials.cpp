@@ -14,7 +14,9 @@ std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravi
     const Map m(*this, item,
                 {"name", "model", "density", "unit_weight", "youngs_modulus", "poisson_ratio",
                  "kinematics", "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
-                 "dilation_angle", "residual", "saturated_density", "saturated_unit_weight"});
+                 "dilation_angle", "residual", "saturated_density", "saturated_unit_weight",
+                 "permeability", "biot_coefficient", "biot_modulus", "fluid_bulk_modulus",
+                 "porosity"});
     MaterialSpec s;
     s.where = locate(m.self());
     const Item name_item = m.required("name");
@@ -30,6 +32,7 @@ std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravi
     if (!(s.poisson_ratio > -1 && s.poisson_ratio < 0.5))
       fail(nu, "must be in the open interval (-1, 0.5) (got " + shown(nu.node.Scalar()) + ")");
     plastic_parameters(m, model_item, s);
+    s.flow = pore_flow(m);
     out.push_back(std::move(s));
   }
   return out;

@@ -71,7 +71,7 @@ std::vector<StageSpec> Validator::stages(const Item& it, const CaseSpec& spec) c
         fail(m.key("water"), "a stage moves the case's water table; give the water before the "
                              "first stage in a top-level water section (a level below the "
                              "bodies for a dry start)");
-      s.water = water(m["water"], spec);
+      s.water = water(m["water"], spec, true);
     }
     if (m.present("at_rest")) {
       if (s.analysis == AnalysisType::ImplicitQuasistatic)
@@ -136,7 +136,8 @@ std::vector<std::string> Validator::solver_keys() {
           "easy_newton_iterations",
           "ghost_penalty",
           "f_bar",
-          "f_bar_out_of_plane"};
+          "f_bar_out_of_plane",
+          "pressure_projection"};
 }
 
 SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
@@ -214,6 +215,16 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
     s.ghost_penalty = number(gp);
     if (!(s.ghost_penalty >= 0 && s.ghost_penalty < 1))
       fail(gp, "must be in [0, 1) (got " + shown(gp.node.Scalar()) + ")");
+  }
+  if (m.has("pressure_projection")) {
+    const Item pp = m["pressure_projection"];
+    if (!spec.consolidates())
+      fail(m.key("pressure_projection"), "'pressure_projection' stabilises the pore pressure of "
+                                         "a consolidation case; this case has none (no material "
+                                         "has a permeability)");
+    s.pressure_projection = number(pp);
+    if (!(s.pressure_projection >= 0 && s.pressure_projection <= 100))
+      fail(pp, "must be in [0, 100] (got " + shown(pp.node.Scalar()) + ")");
   }
   if (m.has("f_bar")) {
     if (const std::string stage = explicit_stage(spec); !stage.empty())

@@ -345,7 +345,11 @@ private:
   std::vector<PlausibilityCheck> silenced_warnings(const Item& it) const;
   double density(const Map& m, const Vec3& gravity) const;
   std::optional<double> saturated_density(const Map& m, const Vec3& gravity) const;
-  WaterSpec water(const Item& it, const CaseSpec& spec) const;
+  /// `stage`: a stage's water, which moves the table only.
+  WaterSpec water(const Item& it, const CaseSpec& spec, bool stage = false) const;
+  std::array<bool, 6> drained_faces(const Item& it) const;
+  std::optional<PoreFlowSpec> pore_flow(const Map& m) const;
+  void check_consolidation(const Map& top, const CaseSpec& spec) const;
   std::vector<BodySpec> bodies(const Item& it, const CaseSpec& spec) const;
   void body_shape(const Map& m, BodySpec& b) const;
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;

@@ -278,24 +278,29 @@ MemoryEstimate estimate_memory(const CaseSpec& spec) {
   if (implicit) {
     e.grid_bytes += e.active_nodes * node_implicit(dims);
     // The tangent: each unknown couples with the unknowns of the nodes that share a point with
-    // it (2W - 1 nodes per direction, W the stencil width; with F-bar the
-    // nodes that share a cell's points, 2W + 1), Dim per node; values and indices, held by
+    // it (2W - 1 nodes per direction, W the stencil width; with F-bar or a consolidation's
+    // pressure projection the nodes that share a cell's points, 2W + 1), Dim per node and a
+    // pore pressure in a consolidation case; values and indices, held by
     // the assembler's matrix and by the linear solver's copy. The lattice assembler adds a
     // table of (2R + 1)^Dim ints per active node, R the widest coupling (lattice_assembler.hpp).
     // The sparse factor with nested dissection holds about 8 n log2(n) entries on a 2D mesh
     // (George 1973) and about FACTOR n^(4/3) on a 3D one (measured, see below).
-    const double dofs = dims * e.active_nodes;
+    const int per_node = dims + (spec.consolidates() ? 1 : 0);
+    const double dofs = per_node * e.active_nodes;
     const double w = stencil_width(spec.solver.shape);
-    const double reach = spec.solver.f_bar ? w : w - 1;
+    const double reach = spec.solver.f_bar || spec.consolidates() ? w : w - 1;
     const double coupled_nodes = std::pow(2 * reach + 1, dims);
-    const double row = dims * coupled_nodes;
+    const double row = per_node * coupled_nodes;
     const double entry = sizeof(double) + sizeof(int);
     const double factor_entries =
         dims == 2 ? 8 * dofs * std::log2(std::max(2.0, dofs)) : factor_entries_3d(dofs);
     const double tables = e.active_nodes * coupled_nodes * sizeof(int);
     // The backend the solver will take (the case's, or the automatic choice).
     const bool symmetric = symmetric_implicit_tangent(spec);
-    LinearSolverKind kind = automatic_linear_solver(symmetric, dims, static_cast<long long>(dofs));
+    LinearSolverKind kind =
+        spec.consolidates()
+            ? LinearSolverKind::Umfpack // the solver's choice for u-p
+            : automatic_linear_solver(symmetric, dims, static_cast<long long>(dofs));
     if (!spec.solver.linear_solver.empty())
       parse_linear_solver_kind(spec.solver.linear_solver, kind);
     const bool iterative =

@@ -82,7 +82,7 @@ RunTimeEstimate estimate_run_time(const CaseSpec& spec, const MemoryEstimate& me
   const double share = threads >= 2 ? 1.0 : kOneThreadShare;
   const bool plastic = std::any_of(spec.materials.begin(), spec.materials.end(),
                                    [](const MaterialSpec& m) { return is_plastic(m.model); });
-  const double unknowns = spec.dimension * memory.active_nodes;
+  const double unknowns = (spec.dimension + (spec.consolidates() ? 1 : 0)) * memory.active_nodes;
   e.symmetric = symmetric_implicit_tangent(spec);
   const double per_unknown = (three_d ? kIterationPerUnknown3d : kIterationPerUnknown2d) *
                              (e.symmetric ? 1.0 : kNonsymmetricFactor);

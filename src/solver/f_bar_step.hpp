@@ -95,7 +95,7 @@ public:
   void for_each_cell_nodes(const ParticleShare& share, const Map& map, F&& f) {
     for (Index first = share.begin; first < share.end; ++first)
       if (is_first_of_cell(first)) {
-        gather_cell_nodes(cells_.cell_of(first), map);
+        cells_.stencil_union(cells_.cell_of(first), map, cell_nodes_);
         f(std::span<const Index>(cell_nodes_));
       }
   }
@@ -109,7 +109,7 @@ public:
       if (!is_first_of_cell(first))
         continue;
       const Index c = cells_.cell_of(first);
-      gather_cell_nodes(c, map);
+      cells_.stencil_union(c, map, cell_nodes_);
       const auto n = static_cast<Eigen::Index>(Dim * cell_nodes_.size());
       u_.setZero(n);
       v_.setZero(n);
@@ -152,16 +152,6 @@ private:
   double j_bar_of(Index p) const { return cell_j_bar_[at(cells_.cell_of(p))]; }
   bool is_first_of_cell(Index p) const {
     return cells_.points()[at(cells_.begin(cells_.cell_of(p)))] == p;
-  }
-  /// cell_nodes_: the union of the stencils of cell c's points, ascending.
-  template <class Map> void gather_cell_nodes(Index c, const Map& map) {
-    cell_nodes_.clear();
-    for (Index k = cells_.begin(c); k < cells_.end(c); ++k) {
-      const auto nodes = map.stencil_nodes(cells_.points()[at(k)]);
-      cell_nodes_.insert(cell_nodes_.end(), nodes.begin(), nodes.end());
-    }
-    std::sort(cell_nodes_.begin(), cell_nodes_.end());
-    cell_nodes_.erase(std::unique(cell_nodes_.begin(), cell_nodes_.end()), cell_nodes_.end());
   }
 
   int axes_;                       ///< the axes a step's volume change spreads over

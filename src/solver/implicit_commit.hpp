@@ -35,7 +35,7 @@ commit_points(Scene<Dim>& scene, const ImplicitStepSetup<Dim, Shape, Axisymmetri
     P.stress[s] = trial.kirchhoff(s) / J;
     if (!P.pore_pressure.empty()) { // the material's stress is the effective one
       P.pore_pressure[s] = trial.pore_pressure(s);
-      P.stress[s].diagonal().array() -= P.pore_pressure[s];
+      P.stress[s].diagonal().array() -= trial.pore_stress(s);
     }
     P.volume[s] = J * P.volume0[s];
     P.x[s] += dx;

@@ -20,6 +20,10 @@ template <int Dim> struct ImplicitNodeFields {
   std::vector<int> owner;              ///< the rank that owns the node (its lowest holder)
   std::vector<Vec<Dim>> prescribed_du; ///< this step's prescribed increment
   std::vector<Vec<Dim>> load;          ///< the external load (for the reactions)
+  /// Consolidation only (empty otherwise): the points' pore pressure at the step's start,
+  /// projected (mass-weighted), and on a drained node the increment to its held value.
+  std::vector<double> pressure, prescribed_dp;
+  std::vector<char> drained; ///< consolidation only: the pore pressure is held here
 
   /// f(name, array) for every per-node array.
   template <class F> void for_each_field(F&& f) {
@@ -31,9 +35,19 @@ template <int Dim> struct ImplicitNodeFields {
     f("load", load);
   }
 
+  /// f(name, array) for the consolidation's per-node arrays.
+  template <class F> void for_each_pressure_field(F&& f) {
+    f("pressure", pressure);
+    f("prescribed_dp", prescribed_dp);
+    f("drained", drained);
+  }
+
   /// One entry per node of the step; values are left to the step to set.
-  void resize(Index nodes) {
-    for_each_field([&](const char*, auto& a) { a.resize(static_cast<std::size_t>(nodes)); });
+  void resize(Index nodes, bool pressure_fields) {
+    const auto size = [&](const char*, auto& a) { a.resize(static_cast<std::size_t>(nodes)); };
+    for_each_field(size);
+    if (pressure_fields)
+      for_each_pressure_field(size);
   }
 };
 

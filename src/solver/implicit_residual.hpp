@@ -6,6 +6,7 @@
 // only, and is made where it is needed.
 #include "implicit_step_setup.hpp"
 #include "implicit_trial_state.hpp"
+#include "point_stencil.hpp"
 #include "talus/linalg/dof_map.hpp"
 
 #include <Eigen/Core>
@@ -38,6 +39,38 @@ public:
       u[a] = dof >= 0 ? du[dof] : step_.node.prescribed_du[at(n)][a];
     }
     return u;
+  }
+
+  /// The pore pressure increment of node n (consolidation): s x from its unknown, a drained
+  /// node's held increment, zero on a node without either.
+  double pressure_increment(const DofMap& map, Index n, const Eigen::VectorXd& du) const {
+    const Index dof = map.overlap_dof_at(n, map.layout().offset(step_.pressure_field));
+    return dof >= 0 ? step_.consolidation->pressure_unit * du[dof]
+                    : step_.node.prescribed_dp[at(n)];
+  }
+
+  /// Calls f(node, r) with point p's mass-balance terms (consolidation.hpp) on its stencil's
+  /// nodes, at the trial state.
+  template <class F> void for_each_mass_balance(Index p, F&& f) const {
+    const auto s = at(p);
+    const auto& c = *step_.consolidation;
+    const PointStencil<Dim, Shape> stencil(step_.map, p, Axisymmetric ? trial_.radius_n(s) : 1.0);
+    const Mat3 dF = trial_.step_gradient(s);
+    const BiotPoint<Dim, Axisymmetric, PointStencil<Dim, Shape>::kNodes> point{
+        stencil.weights,
+        stencil.grads,
+        stencil.hoop,
+        dF,
+        c.flow[at(trial_.material(s))],
+        trial_.volume_n(s),
+        dt_,
+        c.pressure_unit,
+        trial_.pressure_increment(s),
+        trial_.pressure_gradient(s),
+        c.gravity_head};
+    const auto r = point.residual();
+    for (int k = 0; k < r.size(); ++k)
+      f(stencil.nodes[at(k)], r[k]);
   }
 
   /// Newmark's a_{n+1} = 4/dt^2 (du - dt v_n) - a_n of a (global) unknown.
@@ -89,6 +122,22 @@ public:
       if (const Index dof = displacement_dof(map, n, a); dof >= 0)
         r[dof] += f;
     });
+    if (step_.consolidation) {
+      const int offset = map.layout().offset(step_.pressure_field);
+      for (Index p = share.begin; p < share.end; ++p)
+        for_each_mass_balance(p, [&](Index n, double value) {
+          if (const Index dof = map.overlap_dof_at(n, offset); dof >= 0)
+            r[dof] += value;
+        });
+      step_.projection.for_each_residual(
+          share, step_.map, trial_.points(),
+          [&](Index p) { return trial_.pressure_increment(at(p)); },
+          step_.consolidation->pressure_unit,
+          [&](Index n, double value) {
+            if (const Index dof = map.overlap_dof_at(n, offset); dof >= 0)
+              r[dof] += value;
+          });
+    }
   }
 
 private:

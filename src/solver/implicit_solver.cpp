@@ -52,6 +52,7 @@ class ImplicitSolverImpl final : public ImplicitSolver,
 public:
   ImplicitSolverImpl(Scene<Dim>& scene, double prescribed_fraction_reached)
       : scene_(scene), trial_(scene), ramp_committed_(prescribed_fraction_reached) {
+    step_.lay_out(scene);
     double modulus = 0;
     for (const auto& m : scene.materials) {
       modulus = std::max(modulus, m->lame().p_wave_modulus());
@@ -196,14 +197,18 @@ public:
   // The node and component of an unknown, and its diagonal stiffness against the largest: a
   // node that nothing stiff holds (a unit mistake, a body held nowhere) shows as a tiny ratio.
   std::string describe_unknown(Index i) const override {
+    if (i < 0)
+      return {};
+    const NodeLayout& layout = step_.dofs.layout();
     for (Index n = 0; n < step_.map.node_count(); ++n)
-      for (int a = 0; a < Dim; ++a) {
-        if (step_.displacement_dof(n, a) != i)
+      for (int k = 0; k < layout.width(); ++k) {
+        if (step_.dofs.dof(n, k) != i)
           continue;
         constexpr std::string_view kAxes = Axisymmetric ? "rz" : "xyz";
-        std::string text =
-            fmt::format(": unknown {} is the {} displacement of the grid node at [{:.4g}]", i,
-                        kAxes[at(a)], fmt::join(step_.map.nodes().position(n), ", "));
+        const std::string what =
+            k < Dim ? fmt::format("{} displacement", kAxes[at(k)]) : std::string("pore pressure");
+        std::string text = fmt::format(": unknown {} is the {} of the grid node at [{:.4g}]", i,
+                                       what, fmt::join(step_.map.nodes().position(n), ", "));
         if (const SparseMatrix& K = tangent_.last(); i < K.rows() && K.nonZeros() > 0) {
           const double largest = K.diagonal().cwiseAbs().maxCoeff();
           text += fmt::format(", whose diagonal stiffness is {:.3g} of the largest ({:.3g})",
@@ -304,6 +309,9 @@ private:
   /// and F-bar make the tangent nonsymmetric: Cholesky cannot take it, LU can (the case reader
   /// refuses an explicit symmetric-only choice).
   LinearSolverKind serial_linear_solver_kind(bool symmetric) {
+    // The coupled u-p system is indefinite: LU, whatever its size.
+    if (scene_.spec.solver.linear_solver.empty() && step_.consolidation)
+      return LinearSolverKind::Umfpack;
     if (scene_.spec.solver.linear_solver.empty())
       step_.map.update(scene_.grid, scene_.particles);
     return implicit_linear_solver(scene_.spec.solver.linear_solver, symmetric, Dim,
@@ -390,6 +398,11 @@ private:
                           const Eigen::VectorXd& du) {
     const AddSeconds timer(timings_.material);
     const auto increments = balance();
+    if (step_.consolidation)
+      trial_.update_pore_pressure(
+          share, step_.map, step_.node.pressure,
+          [&](Index n) { return increments.pressure_increment(map, n, du); },
+          step_.consolidation->flow);
     return trial_.update(
         share, step_.map, [&](Index n) { return increments.node_increment(map, n, du); }, du);
   }

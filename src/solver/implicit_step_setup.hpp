@@ -14,7 +14,10 @@
 #include "talus/scene/scene.hpp"
 #include "talus/solver/ghost_penalty.hpp"
 
+#include "consolidation.hpp"
+#include "consolidation_setup.hpp"
 #include "implicit_node_fields.hpp"
+#include "pressure_projection.hpp"
 
 #include <Eigen/Core>
 
@@ -65,9 +68,29 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   std::vector<double> dof_mass, grid_v, grid_a; ///< Newmark state per unknown (dynamic)
   GhostPenalty<Dim> ghost;
 
+  /// Consolidation (consolidation.hpp): its model, and the pore pressure's field in the
+  /// layout; none and -1 without.
+  std::optional<Consolidation<Dim>> consolidation;
+  int pressure_field = -1;
+  PressureProjection<Dim> projection; ///< consolidation's stabilisation, by cell
+
   /// The unknown of displacement component a of a node, or a negative value.
   Index displacement_dof(Index node, int a) const {
     return dofs.dof(node, NodeLayout::kDisplacement, a);
+  }
+  /// The unknown of a node's pore pressure, or a negative value (also without consolidation).
+  Index pressure_dof(Index node) const {
+    return pressure_field < 0 ? NodeDofs::kNone : dofs.dof(node, pressure_field, 0);
+  }
+
+  /// The layout of the case's unknowns: the displacement, and the pore pressure in a
+  /// consolidation case. Call once, before the first step.
+  void lay_out(const Scene<Dim>& scene) {
+    consolidation = Consolidation<Dim>::of(scene.spec, scene.grid.cell_size());
+    NodeLayout layout(Dim);
+    if (consolidation)
+      pressure_field = layout.add_field("pore_pressure", 1);
+    dofs = NodeDofs(std::move(layout));
   }
 
   /// Sets everything up for the scene's points where they stand; young[m] is material m's
@@ -79,12 +102,14 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
     if (!scene.spec.prescribed.empty())
       place_prescribed_boxes<Dim>(scene, l.ramp_committed);
     prepare_ghost_penalty(scene, heaviest, young); // may add nodes
-    node.resize(map.node_count());
+    node.resize(map.node_count(), consolidation.has_value());
     for (Index n = 0; n < map.node_count(); ++n) {
       node.region[at(n)] = scene.prescribed_boxes.region_of(map.nodes().position(n));
       node.reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
       node.owner[at(n)] = halo.owner(n);
     }
+    if (consolidation)
+      prepare_pore_pressure(scene);
     number_unknowns(scene, l, heaviest);
     if (l.dynamic)
       project_inertia(P);
@@ -122,11 +147,32 @@ private:
             continue;
           dofs.set(n, NodeLayout::kDisplacement, a, dof_count++);
         }
+        if (consolidation && !node.drained[at(n)] &&
+            node.mass[at(n)] >= kImplicitTinyNodeMassFraction * heaviest)
+          dofs.set(n, pressure_field, 0, dof_count++);
         if (owned)
           owned_dof_count = dof_count;
       }
     owned_dof_count = std::min(owned_dof_count, dof_count);
     number_globally(scene.decomposition->comm());
+  }
+
+  // The nodes' pore pressure at the step's start: the points' projected, and on the drained
+  // nodes the water table's then, with its increment to the step's end (scene.water). The
+  // table's, not the projection: the points next to a drained face take only the table's
+  // change from it, not the difference between it and their own mean.
+  void prepare_pore_pressure(const Scene<Dim>& scene) {
+    project_node_pressure(map, scene.particles, halo, node.mass, node.pressure);
+    mark_drained_nodes(map, scene.particles, halo, scene.spec.water->drained, node.drained);
+    projection.prepare(scene.grid, scene.particles, consolidation->projection());
+    for (Index n = 0; n < map.node_count(); ++n) {
+      node.prescribed_dp[at(n)] = 0.0;
+      if (!node.drained[at(n)])
+        continue;
+      const V x = map.nodes().position(n);
+      node.pressure[at(n)] = scene.water.template pore_pressure_at_start<Dim>(x);
+      node.prescribed_dp[at(n)] = scene.water.template pore_pressure<Dim>(x) - node.pressure[at(n)];
+    }
   }
 
   // Global ids: each rank's owned unknowns in order after those of the lower ranks; a shared

@@ -84,6 +84,8 @@ private:
       }
       if (auto* f_bar = step.trial.f_bar())
         f_bar->for_each_cell_nodes(share, map_of_step, f);
+      if (step.setup.consolidation)
+        step.setup.projection.for_each_cell_nodes(share, map_of_step, f);
       for (const auto& face : step.setup.ghost.faces())
         if (assembles(face))
           f(std::span<const Index>(face.nodes));
@@ -128,6 +130,9 @@ private:
     group_blocks_.resize(at(std::min(groups, kChunk)));
     for (auto& K : group_blocks_)
       K.resize(kDofs, kDofs); // the heap-stored 3D blocks; a no-op for fixed sizes
+    const bool consolidation = step.setup.consolidation.has_value();
+    if (consolidation)
+      biot_blocks_.resize(group_blocks_.size());
     for (Index first = 0; first < groups; first += kChunk) {
       const Index count = std::min(kChunk, groups - first);
       parallel_for(
@@ -135,6 +140,8 @@ private:
           [&](Index i) {
             PointStiffness<kDofs>& K = group_blocks_[at(i)];
             K.setZero();
+            if (consolidation)
+              biot_blocks_[at(i)].set_zero();
             Eigen::Matrix<double, Dim, kNodes> grads;
             Eigen::Matrix<double, 1, kNodes> weights, hoop; // N, N / r_n (axisymmetry)
             for (Index e = group_begin_[at(first + i)]; e < group_begin_[at(first + i + 1)]; ++e) {
@@ -152,17 +159,32 @@ private:
               if (const V water = trial.water_force(s); !water.isZero(0.0))
                 add_water_stiffness<Dim, Axisymmetric, kNodes>(weights, grads, hoop,
                                                                trial.step_gradient(s), water, K);
+              if (consolidation)
+                biot_point(step, p, weights, grads, hoop)
+                    .add_blocks(biot_blocks_[at(i)].up, biot_blocks_[at(i)].pu,
+                                biot_blocks_[at(i)].pp);
             }
           },
           8);
       for (Index i = 0; i < count; ++i) {
         const auto nodes = map_of_step.stencil_nodes(point_of_group(first + i));
         tangent.add_block(nodes, group_blocks_[at(i)]);
+        if (consolidation) {
+          const BiotBlocks& b = biot_blocks_[at(i)];
+          const int p = step.setup.pressure_field;
+          tangent.add_coupling_block(nodes, NodeLayout::kDisplacement, p, b.up);
+          tangent.add_coupling_block(nodes, p, NodeLayout::kDisplacement, b.pu);
+          tangent.add_block(nodes, b.pp, p);
+        }
       }
     }
     if (auto* f_bar = trial.f_bar())
       f_bar->add_coupling(
           share, map_of_step, P, [&](Index q) { return trial.step_gradient(at(q)); }, tangent);
+    if (consolidation)
+      step.setup.projection.add_tangent(share, map_of_step, P,
+                                        step.setup.consolidation->pressure_unit,
+                                        step.setup.pressure_field, tangent);
     const auto& G = Ghost::face_matrix();
     for (const auto& face : step.setup.ghost.faces()) {
       if (!assembles(face))
@@ -178,6 +200,41 @@ private:
     }
   }
 
+  /// Point p's mass balance at the trial state (consolidation.hpp), on its stencil's values.
+  template <int kNodes>
+  static BiotPoint<Dim, Axisymmetric, kNodes>
+  biot_point(const Step& step, Index p, const Eigen::Matrix<double, 1, kNodes>& weights,
+             const Eigen::Matrix<double, Dim, kNodes>& grads,
+             const Eigen::Matrix<double, 1, kNodes>& hoop) {
+    const auto s = at(p);
+    const Consolidation<Dim>& c = *step.setup.consolidation;
+    return {weights,
+            grads,
+            hoop,
+            step.trial.step_gradient(s),
+            c.flow[at(step.trial.material(s))],
+            step.trial.volume_n(s),
+            step.dt,
+            c.pressure_unit,
+            step.trial.pressure_increment(s),
+            step.trial.pressure_gradient(s),
+            c.gravity_head};
+  }
+
+  /// A group's consolidation blocks: displacement rows by pressure columns, the transpose's
+  /// shape, and pressure by pressure (consolidation.hpp).
+  struct BiotBlocks {
+    static constexpr int kNodes = ParticleGridMap<Dim, Shape>::kStencilSize;
+    Eigen::Matrix<double, Dim * kNodes, kNodes> up;
+    Eigen::Matrix<double, kNodes, Dim * kNodes> pu;
+    Eigen::Matrix<double, kNodes, kNodes> pp;
+    void set_zero() {
+      up.setZero();
+      pu.setZero();
+      pp.setZero();
+    }
+  };
+
   /// A share's tangent assembler and the step and points its structure was built for.
   struct ShareTangent {
     LatticeAssembler<Dim> assembler;
@@ -189,6 +246,7 @@ private:
   std::vector<Index> group_begin_; ///< where each group starts in stencil_points_, and the end
   /// One chunk of groups' summed blocks.
   std::vector<PointStiffness<Dim * ParticleGridMap<Dim, Shape>::kStencilSize>> group_blocks_;
+  std::vector<BiotBlocks> biot_blocks_; ///< the chunk's consolidation blocks (consolidation only)
 };
 
 } // namespace talus

@@ -4,6 +4,7 @@
 // F-bar's cell average where the case asks for it, and the material's Kirchhoff stress and
 // tangent there. It is evaluated for a share of the points at one increment and kept until
 // the increment changes: Newton asks for the residual and the tangent at the same increment.
+#include "consolidation.hpp"
 #include "f_bar_step.hpp"
 #include "step_tangent.hpp"
 #include "talus/core/errors.hpp"
@@ -31,7 +32,7 @@ template <int Dim, class Shape, bool Axisymmetric> class ImplicitTrialState {
 
 public:
   explicit ImplicitTrialState(Scene<Dim>& scene)
-      : scene_(scene), f_bar_(scene.spec.solver.f_bar),
+      : scene_(scene), consolidates_(scene.spec.consolidates()), f_bar_(scene.spec.solver.f_bar),
         f_bar_step_(scene.spec.solver.f_bar_out_of_plane) {
     resize();
   }
@@ -56,7 +57,13 @@ public:
     if (f_bar_)
       f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
     const PoreWater& water = scene_.water;
-    if (water.any()) {
+    if (consolidates_) { // the points' own pressure, set with each trial increment
+      const auto np = scene_.particles.x.size();
+      pore_pressure_.resize(np);
+      water_force_.resize(np);
+      pressure_increment_.resize(np);
+      pressure_gradient_.resize(np);
+    } else if (water.any()) {
       const auto& P = scene_.particles;
       pore_pressure_.resize(P.x.size());
       water_force_.resize(P.x.size());
@@ -126,6 +133,32 @@ public:
     return true;
   }
 
+  /// Consolidation (consolidation.hpp): the share's points' pore pressure at the trial
+  /// increment, from the nodes' pressure at the step's start, node_pressure, and their
+  /// increments dp(n): p = p_n + sum N dp, grad p = sum grad N (p_n + dp), and the water's
+  /// force alpha V_n grad p; flow per material.
+  template <class Increment>
+  void update_pore_pressure(const ParticleShare& share, const ParticleGridMap<Dim, Shape>& map,
+                            const std::vector<double>& node_pressure, Increment&& dp,
+                            const std::vector<PoreFlow>& flow) {
+    const auto& P = scene_.particles;
+    parallel_for(share.size(), [&](Index i) {
+      const auto s = at(share.begin + i);
+      double increment = 0;
+      V gradient = V::Zero();
+      map.for_each_node_of(share.begin + i, [&](Index n, double w, const V& grad) {
+        const double dp_n = dp(n);
+        increment += w * dp_n;
+        gradient += (node_pressure[at(n)] + dp_n) * grad;
+      });
+      const double alpha = flow[at(P.material[s])].alpha;
+      pressure_increment_[s] = increment;
+      pressure_gradient_[s] = gradient;
+      pore_pressure_[s] = P.pore_pressure[s] + increment;
+      water_force_[s] = alpha * P.volume[s] * gradient;
+    });
+  }
+
   /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's force on
   /// the grid at its trial state: V0 G grad N, G = tau' dF^-T the step's first Piola stress of
   /// the effective stress (and F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the
@@ -177,6 +210,10 @@ public:
       return Components::embed(dF_[s], hoop_[s]);
     return embedded<Dim>(dF_[s]);
   }
+  const Particles<Dim>& points() const { return scene_.particles; }
+  /// Point s's material, and its volume at the step's start V_n.
+  int material(std::size_t s) const { return scene_.particles.material[s]; }
+  double volume_n(std::size_t s) const { return scene_.particles.volume[s]; }
   /// The radius of point s at the step's start, r_n (axisymmetry; the points move at commit).
   double radius_n(std::size_t s) const { return scene_.particles.x[s][0]; }
   /// j_p / J_bar_c: the true current volume over the F-bar one (1 without F-bar).
@@ -185,8 +222,19 @@ public:
   }
   const Mat3& F(std::size_t s) const { return F_[s]; }
   const Mat3& kirchhoff(std::size_t s) const { return response_[s].kirchhoff; }
-  /// The pore pressure u of point s in this step (with water).
-  double pore_pressure(std::size_t s) const { return pore_pressure_[s]; }
+  /// The pore pressure u of point s in this step (zero while no water acts).
+  double pore_pressure(std::size_t s) const {
+    return pore_pressure_.empty() ? 0.0 : pore_pressure_[s];
+  }
+  /// What point s's pore pressure takes off its total stress: alpha p (Biot's coefficient of
+  /// a consolidating material; 1 for water at rest).
+  double pore_stress(std::size_t s) const {
+    const auto& flow = scene_.spec.materials[at(scene_.particles.material[s])].flow;
+    return (consolidates_ ? flow->biot_coefficient : 1.0) * pore_pressure(s);
+  }
+  /// Consolidation: point s's trial increment of p, and grad p at the step's end.
+  double pressure_increment(std::size_t s) const { return pressure_increment_[s]; }
+  const V& pressure_gradient(std::size_t s) const { return pressure_gradient_[s]; }
 
   /// F-bar in the step, or null without it: its cells couple the tangent's points.
   FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
@@ -200,9 +248,12 @@ private:
   }
 
   Scene<Dim>& scene_;
-  std::vector<double> pore_pressure_; ///< per point: u in this step (with water only)
-  std::vector<V> water_force_;        ///< per point: V_n grad u in this step (with water only)
-  bool f_bar_ = false;                ///< F-bar volume averaging per cell (f_bar.hpp)
+  std::vector<double> pore_pressure_;      ///< per point: u in this step (with water only)
+  std::vector<V> water_force_;             ///< per point: V_n grad u in this step (with water only)
+  std::vector<double> pressure_increment_; ///< per point: dp (consolidation only)
+  std::vector<V> pressure_gradient_;       ///< per point: grad p at the step's end (consolidation)
+  bool consolidates_ = false;
+  bool f_bar_ = false; ///< F-bar volume averaging per cell (f_bar.hpp)
   FBarStep<Dim, Axisymmetric> f_bar_step_;
   std::vector<M> dF_;
   std::vector<double> hoop_; ///< per point: the trial hoop stretch (axisymmetry only)

@@ -361,7 +361,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       const bool dynamic = scene.spec.analysis == AnalysisType::ImplicitDynamic;
       const double ramp = loads_ramp ? t_end / time.end_time : 1.0;
       strength.at(t_end / time.end_time);
-      water.at(t_end / time.end_time);
+      water.at(t_end / time.end_time, s.t / time.end_time);
       watch.before_step(scene.particles);
       const NewtonReport r = solver->step(dynamic ? 1.0 : ramp, ramp, step_dt);
       newton_iterations += r.iterations;

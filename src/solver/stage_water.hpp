@@ -24,8 +24,14 @@ public:
     scene_.water = PoreWater(from, table_after(spec, stages, static_cast<long>(k)));
   }
 
-  /// Sets the water for a step that ends at the fraction `progress` of the stage.
-  void at(double progress) { scene_.water.set_progress(quasi_static_ ? progress : 1.0); }
+  /// Sets the water for a step from the fraction `start` of the stage to `progress`.
+  void at(double progress, double start) {
+    if (quasi_static_)
+      scene_.water.set_progress(progress, start);
+    else
+      scene_.water.set_progress(1.0);
+  }
+  void at(double progress) { at(progress, progress); }
 
 private:
   /// The water table at the end of stage k (the case's before the first).

@@ -26,6 +26,7 @@ VerificationCase cantilever_slab_3d();
 VerificationCase self_weight_column();
 VerificationCase self_weight_column_3d();
 VerificationCase submerged_column();
+VerificationCase terzaghi();
 VerificationCase column_large_compression();
 VerificationCase single_element();
 VerificationCase single_element_3d();

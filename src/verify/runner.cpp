@@ -40,6 +40,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::self_weight_column(),
                                                       verify_cases::self_weight_column_3d(),
                                                       verify_cases::submerged_column(),
+                                                      verify_cases::terzaghi(),
                                                       verify_cases::column_large_compression(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),

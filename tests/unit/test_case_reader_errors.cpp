@@ -61,7 +61,9 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
                       "unknown key 'youngs_modolus' (allowed keys here: name, model, density, "
                       "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
                       "hardening_modulus, cohesion, friction_angle, dilation_angle, residual, "
-                      "saturated_density, saturated_unit_weight); did you mean 'youngs_modulus'?"});
+                      "saturated_density, saturated_unit_weight, permeability, biot_coefficient, "
+                      "biot_modulus, fluid_bulk_modulus, porosity); did you mean "
+                      "'youngs_modulus'?"});
   // Exact full message (format comes from SourceLocation::to_string()).
   try {
     read_case_text(text, "case.yaml");
@@ -71,8 +73,9 @@ TEST(CaseReaderErrors, UnknownKeySuggestsClosest) {
                            "'youngs_modolus' (allowed keys here: name, model, density, "
                            "unit_weight, youngs_modulus, poisson_ratio, kinematics, yield_stress, "
                            "hardening_modulus, cohesion, friction_angle, dilation_angle, "
-                           "residual, saturated_density, saturated_unit_weight); did you mean "
-                           "'youngs_modulus'?");
+                           "residual, saturated_density, saturated_unit_weight, permeability, "
+                           "biot_coefficient, biot_modulus, fluid_bulk_modulus, porosity); did "
+                           "you mean 'youngs_modulus'?");
   }
 }
 

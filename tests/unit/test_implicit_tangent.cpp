@@ -228,3 +228,27 @@ TEST(ImplicitTangent, PoreWaterMatchesFiniteDifferences) {
 }
 
 } // namespace
+
+// Consolidation (consolidation.hpp): the pore pressure's unknowns and their blocks, the water's
+// force alpha N J V_n grad p on the displacement rows and the mass balance on the pressure rows,
+// with compressible water (1/M), alpha < 1 and a flow term of the size of the storage one. With
+// a water table (the gravity head in Darcy's law) and without (excess pressure), in plane
+// strain, axisymmetry and 3D.
+const std::string kClay = "{name: m, model: hencky, density: 1000, youngs_modulus: 1.0e6, "
+                          "poisson_ratio: 0.3, permeability: 1.0e-3, biot_coefficient: 0.8, "
+                          "biot_modulus: 1.0e7}";
+
+TEST(ImplicitTangent, ConsolidationMatchesFiniteDifferences) {
+  EXPECT_LE(tangent_mismatch<2>(block_2d("water: {unit_weight: 1.0e4}", "{shape: gimp}", kClay)),
+            kTangentTolerance);
+  EXPECT_LE(tangent_mismatch<2>(block_2d(kSlopingWater, "{shape: gimp}", kClay)),
+            kTangentTolerance);
+  EXPECT_LE(tangent_mismatch<2>(
+                block_2d("geometry: axisymmetric\n" + kSlopingWater, "{shape: linear}", kClay)),
+            kTangentTolerance);
+  std::string clay_3d = block_3d("{shape: gimp}", "water: {unit_weight: 1.0e4, level: 0.6}");
+  const std::string hencky_3d =
+      "{name: m, model: hencky, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}";
+  clay_3d.replace(clay_3d.find(hencky_3d), hencky_3d.size(), kClay);
+  EXPECT_LE(tangent_mismatch<3>(clay_3d), kTangentTolerance);
+}

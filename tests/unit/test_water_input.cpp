@@ -10,6 +10,7 @@
 #include "talus/solver/explicit_solver.hpp"
 
 #include "cli_support.hpp"
+#include "scene_error_support.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -21,6 +22,8 @@
 namespace {
 
 using namespace talus;
+using talus::test_support::has;
+using talus::test_support::scene_error_of;
 using talus::test_support::write_file;
 
 // A 4 m x 3 m block of soil under gravity; line 1 is "name: ...". The water line is spliced in.
@@ -42,21 +45,6 @@ std::string block(const std::string& water, const std::string& material_extra = 
          "}\n"
          "boundaries: {x_min: roller, x_max: roller, y_min: fixed}\n"
          "time: {end_time: 1, dt: 0.5}\n";
-}
-
-/// The InputError reading (and building) the case gives, or a failure.
-InputError error_of(const std::string& text) {
-  try {
-    build_scene<2>(read_case_text(text, "case.yaml"));
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected an InputError for\n" << text;
-  return InputError({}, "");
-}
-
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 TEST(WaterInput, ReadsALevelOrAPolylineAndSaturatedWeights) {
@@ -87,7 +75,7 @@ TEST(WaterInput, BadWaterIsRefusedAtItsKey) {
   const std::vector<Bad> cases = {
       {block("water: {level: 2, phreatic: [[0, 1]]}\n"), "water.phreatic",
        "give the phreatic surface once"},
-      {block("water: {unit_weight: 9810}\n"), "water", "give the phreatic surface once"},
+      {block("water: {unit_weight: 9810}\n"), "water", "give the phreatic surface: level: y"},
       {block("water: {phreatic: [[0, 1], [0, 2]]}\n"), "water.phreatic[1][0]",
        "the phreatic surface's x must ascend"},
       {block("water: {phreatic: [[0, 1, 2]]}\n"), "water.phreatic[0]",
@@ -102,14 +90,14 @@ TEST(WaterInput, BadWaterIsRefusedAtItsKey) {
   };
   for (const Bad& c : cases) {
     SCOPED_TRACE(c.text);
-    const InputError e = error_of(c.text);
+    const InputError e = scene_error_of(c.text);
     EXPECT_EQ(e.where().key_path, c.key) << e.what();
     EXPECT_TRUE(has(e.what(), c.message)) << e.what();
   }
   // Gravity along -y, since the pressure is hydrostatic.
   std::string sideways = block("water: {level: 2}\n");
   sideways.replace(sideways.find("[0, -10]"), 8, "[-10, 0]");
-  const InputError e = error_of(sideways);
+  const InputError e = scene_error_of(sideways);
   EXPECT_EQ(e.where().key_path, "water");
   EXPECT_TRUE(has(e.what(), "water needs gravity along -y")) << e.what();
 }
@@ -274,7 +262,7 @@ TEST(WaterInput, AStageWaterNeedsTheCaseWater) {
                "stages:\n"
                "  - {name: wet, analysis: implicit_quasistatic, time: {end_time: 1, dt: 0.5}, "
                "water: {level: 1}}\n");
-  const InputError e = error_of(text);
+  const InputError e = scene_error_of(text);
   EXPECT_EQ(e.where().key_path, "stages[0].water");
   EXPECT_TRUE(has(e.what(), "a top-level water section")) << e.what();
 }

@@ -30,13 +30,22 @@ public:
   /// Whether any water acts (a dry case or stage has none).
   bool any() const { return from_ || to_; }
 
-  /// The stage's progress f in [0, 1]: the share of the move made.
-  void set_progress(double f) { progress_ = f; }
+  /// The stage's progress f in [0, 1]: the share of the move made (at a step's end), and at
+  /// the step's start `start`.
+  void set_progress(double f, double start) {
+    progress_ = f;
+    start_ = start;
+  }
+  void set_progress(double f) { set_progress(f, f); }
   double progress() const { return progress_; }
 
   /// u at x, Pa (compression positive).
   template <int Dim> double pore_pressure(const Vec<Dim>& x) const {
     return blend([&](const WaterTable& w) { return w.pore_pressure<Dim>(x); }, 0.0);
+  }
+  /// u at x at the step's start.
+  template <int Dim> double pore_pressure_at_start(const Vec<Dim>& x) const {
+    return blend([&](const WaterTable& w) { return w.pore_pressure<Dim>(x); }, 0.0, start_);
   }
   /// grad u at x, Pa/m.
   template <int Dim> Vec<Dim> pressure_gradient(const Vec<Dim>& x) const {
@@ -45,17 +54,18 @@ public:
   }
 
 private:
-  template <class F, class T> T blend(F&& of, T none) const {
+  template <class F, class T> T blend(F&& of, T none) const { return blend(of, none, progress_); }
+  template <class F, class T> T blend(F&& of, T none, double f) const {
     T v = none;
-    if (from_ && progress_ < 1.0)
-      v = (1.0 - progress_) * of(*from_);
-    if (to_ && progress_ > 0.0)
-      v = v + progress_ * of(*to_);
+    if (from_ && f < 1.0)
+      v = (1.0 - f) * of(*from_);
+    if (to_ && f > 0.0)
+      v = v + f * of(*to_);
     return v;
   }
 
   std::optional<WaterTable> from_, to_;
-  double progress_ = 1.0;
+  double progress_ = 1.0, start_ = 1.0;
 };
 
 } // namespace talus

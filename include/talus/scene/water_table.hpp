@@ -22,7 +22,9 @@ public:
 
   /// The case's water table, or none for a dry case.
   static std::optional<WaterTable> of(const CaseSpec& spec) {
-    return spec.water ? std::optional<WaterTable>(WaterTable(*spec.water)) : std::nullopt;
+    return spec.water && !spec.water->phreatic.empty()
+               ? std::optional<WaterTable>(WaterTable(*spec.water))
+               : std::nullopt;
   }
 
   double unit_weight() const { return unit_weight_; }

@@ -17,6 +17,7 @@
 #include "talus/core/particles.hpp"
 #include "talus/grid/grid.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace talus {
@@ -35,6 +36,17 @@ public:
   Index cell_of(Index p) const { return cell_of_[static_cast<std::size_t>(p)]; }
   /// v_p / (total volume of p's cell).
   double weight(Index p) const { return weight_[static_cast<std::size_t>(p)]; }
+  /// nodes: the union of the stencils of cell c's points on map, ascending.
+  template <class Map>
+  void stencil_union(Index c, const Map& map, std::vector<Index>& nodes) const {
+    nodes.clear();
+    for (Index k = begin(c); k < end(c); ++k) {
+      const auto stencil = map.stencil_nodes(points_[static_cast<std::size_t>(k)]);
+      nodes.insert(nodes.end(), stencil.begin(), stencil.end());
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
 
 private:
   std::vector<Index> begin_{0}; ///< CSR offsets into points_, one more than the cells

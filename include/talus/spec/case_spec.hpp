@@ -62,7 +62,9 @@ enum class PlausibilityCheck {
   FrictionAngle,
   Load,
   Gravity,
-  Displacement
+  Displacement,
+  Permeability,
+  ConsolidationStep
 };
 
 /// Softening of c and phi with accumulated plastic shear strain (mohr_coulomb, drucker_prager).
@@ -103,6 +105,15 @@ struct GridSpec {
   SourceLocation where;
 };
 
+/// How pore water flows through a material and couples to its skeleton (Biot consolidation;
+/// docs/case-format.md, materials): Darcy's q = -k grad h, the skeleton's volume change
+/// alpha div u, and the storage 1/M. A material with one makes the case a consolidation case.
+struct PoreFlowSpec {
+  double permeability = 0;         ///< k, m/s (the hydraulic conductivity), > 0
+  double biot_coefficient = 1;     ///< alpha, in (0, 1]
+  double inverse_biot_modulus = 0; ///< 1/M, 1/Pa (0: incompressible fluid and grains)
+};
+
 struct MaterialSpec {
   std::string name;                                   ///< required, unique
   MaterialModel model = MaterialModel::LinearElastic; ///< required
@@ -120,6 +131,7 @@ struct MaterialSpec {
   /// kg/m^3, of the soil below the phreatic surface (saturated_density, or
   /// saturated_unit_weight / |g|); none: `density` everywhere. Only with a water section.
   std::optional<double> saturated_density;
+  std::optional<PoreFlowSpec> flow; ///< none: the material does not consolidate
   SourceLocation where;
 };
 
@@ -129,7 +141,11 @@ struct WaterSpec {
   double unit_weight = 9810; ///< gamma_w, N/m^3
   /// The phreatic surface: y_w at each listed x (a polyline, ascending x, constant beyond its
   /// ends; in 3D extruded along z), or one point's y for a level surface.
+  /// Empty: no water table (a consolidation case's excess pore pressure only; u = 0 at rest).
   std::vector<std::array<double, 2>> phreatic;
+  /// Per grid face (x_min, x_max, y_min, ...): whether it is drained, its pore pressure held at
+  /// the water table's (consolidation; the body's free surface is always drained).
+  std::array<bool, 6> drained{};
   SourceLocation where;
 };
 
@@ -325,6 +341,10 @@ struct SolverSpec {
   /// by (J_bar / j)^(1/2) and keeps dF33 = 1 (de Souza Neto et al. 1996), which relieves
   /// isochoric plastic flow in plane strain better (docs/case-format.md).
   bool f_bar_out_of_plane = false;
+  /// Consolidation: the factor on the pressure projection's tau = alpha^2 / (2 G)
+  /// (pressure_projection.hpp), the stabilisation of equal-order u and p near the undrained
+  /// limit; 0 switches it off.
+  double pressure_projection = 1;
 };
 
 /// `talus fos`: the strength-reduction search for the factor of safety (docs/case-format.md,
@@ -422,6 +442,13 @@ struct CaseSpec {
 
   /// Whether a body starts from a geostatic stress, which balances the full weight: the weight
   /// (and its pore water) then acts in full from the first load step instead of growing.
+  /// Whether the pore pressure is an unknown coupled to the skeleton (Biot consolidation): a
+  /// material has a pore flow.
+  bool consolidates() const {
+    return water && std::any_of(materials.begin(), materials.end(),
+                                [](const MaterialSpec& m) { return m.flow.has_value(); });
+  }
+
   bool starts_geostatic() const {
     return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) {
       return b.initial_stress && b.initial_stress->kind == BodySpec::InitialStress::Kind::Geostatic;

@@ -1,0 +1,115 @@
+#pragma once
+// Biot consolidation in an implicit step (docs/architecture.md, "Consolidation"): the pore
+// pressure p is a nodal unknown beside the displacement, coupled to the skeleton by
+//   balance:  the points' effective stress with the body force -alpha grad p (the volume form
+//             of the free water, implicit_trial_state.hpp), on the current volume;
+//   mass:     alpha (J - 1) + dp / M + dt div q = 0 per unit of the step's start volume, backward
+//             Euler, Darcy's q = -(k / gamma_w) (grad p - gamma_w g / |g|) on the step's start
+//             configuration (with a water table p is the whole pore pressure; without one the
+//             excess over a hydrostatic state, and the gravity term is dropped).
+// Per node i of a point's stencil (N_i its weight, V_n its volume at the step's start) the
+// mass balance is
+//   r_i = s V_n [N_i (alpha (J - 1) + dp_p / M) + dt (k / gamma_w) grad N_i . (grad p - h)],
+// dp_p = sum_j N_j dp_j the point's increment, grad p = sum_j grad N_j p_j at the step's end,
+// h the gravity head. s, the pressure unit, makes the rows a force and the unknowns a length
+// (p = s x): Newton's norms and the pivots then see one scale, whatever the units of p.
+#include "talus/core/types.hpp"
+#include "talus/spec/case_spec.hpp"
+#include "water_stiffness.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+namespace talus {
+
+/// A material's pore flow in the step's terms.
+struct PoreFlow {
+  double alpha = 1;    ///< Biot's coefficient
+  double storage = 0;  ///< 1 / M, 1/Pa
+  double mobility = 0; ///< k / gamma_w, m^2 / (Pa s)
+  /// The pressure projection's tau = f alpha^2 / (2 G), 1/Pa (pressure_projection.hpp).
+  double projection = 0;
+};
+
+template <int Dim> struct Consolidation {
+  std::vector<PoreFlow> flow; ///< per material
+  /// gamma_w g / |g| with a water table (hydrostatic p does not flow), else zero.
+  Vec<Dim> gravity_head = Vec<Dim>::Zero();
+  double pressure_unit = 1; ///< s: Pa per unit of the pressure unknown
+
+  /// Per material: the pressure projection's tau.
+  std::vector<double> projection() const {
+    std::vector<double> tau;
+    for (const PoreFlow& f : flow)
+      tau.push_back(f.projection);
+    return tau;
+  }
+
+  /// The case's consolidation, or none for a case without one; h the cell size.
+  static std::optional<Consolidation> of(const CaseSpec& spec, double h) {
+    if (!spec.consolidates())
+      return std::nullopt;
+    Consolidation c;
+    double modulus = 0;
+    for (const MaterialSpec& m : spec.materials) {
+      const double nu = m.poisson_ratio, alpha = m.flow->biot_coefficient;
+      const double shear = m.youngs_modulus / (2 * (1 + nu));
+      c.flow.push_back({alpha, m.flow->inverse_biot_modulus,
+                        m.flow->permeability / spec.water->unit_weight,
+                        spec.solver.pressure_projection * alpha * alpha / (2 * shear)});
+      modulus = std::max(modulus, m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)));
+    }
+    const double g = spec.gravity.norm();
+    if (!spec.water->phreatic.empty() && g > 0)
+      c.gravity_head = spec.water->unit_weight / g * head<Dim>(spec.gravity);
+    c.pressure_unit = modulus / h;
+    return c;
+  }
+};
+
+/// One point's terms of the mass balance and their blocks, for a stencil of kNodes nodes.
+template <int Dim, bool Axisymmetric, int kNodes> struct BiotPoint {
+  using Weights = Eigen::Matrix<double, 1, kNodes>;
+  using Grads = Eigen::Matrix<double, Dim, kNodes>;
+
+  const Weights& weights; ///< N_j
+  const Grads& grads;     ///< grad N_j at the step's start
+  const Weights& hoop;    ///< N_j / r_n (axisymmetry)
+  Mat3 dF;                ///< the trial step gradient
+  const PoreFlow& flow;
+  double volume_n = 0;   ///< V_n
+  double dt = 0;         ///< the step's length
+  double s = 1;          ///< the pressure unit
+  double increment = 0;  ///< dp_p
+  Vec<Dim> gradient;     ///< grad p at the step's end
+  Vec<Dim> gravity_head; ///< h
+
+  /// r_i for each node of the stencil.
+  Weights residual() const {
+    const double volume = flow.alpha * (dF.determinant() - 1.0) + flow.storage * increment;
+    const Vec<Dim> drive = dt * flow.mobility * (gradient - gravity_head);
+    return s * volume_n * (volume * weights + drive.transpose() * grads);
+  }
+
+  /// K_up += d(balance)/dp (s N_i J V_n alpha grad N_j), K_pu += d r / du
+  /// (s V_n alpha N_i dJ/du_j), K_pp += d r / dp (s^2 V_n (N_i N_j / M + dt k/gamma_w
+  /// grad N_i . grad N_j)).
+  template <class Up, class Pu, class Pp> void add_blocks(Up& K_up, Pu& K_pu, Pp& K_pp) const {
+    const double J = dF.determinant();
+    const Eigen::Matrix<double, 1, Dim* kNodes> dJ =
+        volume_change_gradient<Dim, Axisymmetric, kNodes>(grads, hoop, dF);
+    for (int i = 0; i < kNodes; ++i) {
+      const double c = s * flow.alpha * volume_n * weights[i];
+      for (int a = 0; a < Dim; ++a)
+        K_up.row(Dim * i + a) += (c * J) * grads.row(a);
+      K_pu.row(i) += c * dJ;
+    }
+    K_pp.noalias() += (s * s * volume_n) * (flow.storage * weights.transpose() * weights +
+                                            dt * flow.mobility * grads.transpose() * grads);
+  }
+};
+
+} // namespace talus
