@@ -164,6 +164,17 @@ TEST_F(Restart, ImplicitRunWithWaterResumesBitwise) {
                   2, {});
 }
 
+// Consolidation (Terzaghi's column at H/64, 2048 points: an undrained load step, then 100 steps
+// of drainage): each step starts from the points' pore pressure, projected on the nodes, so a
+// resumed run takes it from the checkpoint and drains on as the uninterrupted one.
+TEST_F(Restart, ConsolidationRunResumesBitwise) {
+  kill_and_resume(fs::path(TALUS_SOURCE_DIR) / "verification" / "terzaghi.yaml",
+                  {"grid.cell_size=0.015625", "grid.extent=[0.125, 1.0625]",
+                   "output.checkpoint.every_steps=2",
+                   "output.fields=[velocity, stress, pore_pressure]"},
+                  2, {});
+}
+
 // Newmark implicit dynamics, Tresca.
 TEST_F(Restart, ImplicitDynamicRunResumesBitwise) {
   kill_and_resume(kCases / "colliding_discs_tresca_implicit.yaml",
