@@ -338,8 +338,7 @@ void check_consolidation_steps(Collector& out, const CaseSpec& spec) {
             fmt::format("{} in steps of {:g} s, shorter than h^2 / (6 c_v) = {:g} s (c_v = {:.3g} "
                         "m^2/s of material '{}', h = {:g} m): the pore pressure overshoots next "
                         "to drained faces after the change and settles within a few cells and "
-                        "steps; intended for an undrained load step (silence "
-                        "'consolidation_step'), otherwise use longer steps",
+                        "steps; meant for an undrained load step, otherwise use longer steps",
                         what, *time.dt, limit, c_v, fastest->name, h));
   };
   if (spec.stages.empty()) {
