@@ -3,6 +3,7 @@
 #include "talus/io/plausibility.hpp"
 
 #include "talus/io/case_vocabulary.hpp"
+#include "talus/material/material.hpp"
 #include "talus/scene/body_geometry.hpp"
 
 #include <algorithm>
@@ -309,8 +310,9 @@ void check_permeability(Collector& out, const MaterialSpec& s, const std::string
 double largest_consolidation_coefficient(const CaseSpec& spec, const MaterialSpec*& fastest) {
   double largest = 0;
   for (const MaterialSpec& m : spec.materials) {
-    const double nu = m.poisson_ratio, alpha = m.flow->biot_coefficient;
-    const double constrained = m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+    const double alpha = m.flow->biot_coefficient;
+    const double constrained =
+        LameParameters::from_young_poisson(m.youngs_modulus, m.poisson_ratio).p_wave_modulus();
     const double c_v =
         m.flow->permeability /
         (spec.water->unit_weight * (alpha * alpha / constrained + m.flow->inverse_biot_modulus));

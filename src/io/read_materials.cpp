@@ -12,10 +12,25 @@ std::vector<MaterialSpec> Validator::materials(const Item& it, const Vec3& gravi
   UniqueNames names(*this, "material");
   for (const Item& item : items) {
     const Map m(*this, item,
-                {"name", "model", "density", "unit_weight", "youngs_modulus", "poisson_ratio",
-                 "kinematics", "yield_stress", "hardening_modulus", "cohesion", "friction_angle",
-                 "dilation_angle", "residual", "saturated_density", "saturated_unit_weight",
-                 "permeability", "biot_coefficient", "biot_modulus", "fluid_bulk_modulus",
+                {"name",
+                 "model",
+                 "density",
+                 "unit_weight",
+                 "youngs_modulus",
+                 "poisson_ratio",
+                 "kinematics",
+                 "yield_stress",
+                 "hardening_modulus",
+                 "cohesion",
+                 "friction_angle",
+                 "dilation_angle",
+                 "residual",
+                 "saturated_density",
+                 "saturated_unit_weight",
+                 "permeability",
+                 "biot_coefficient",
+                 "biot_modulus",
+                 "fluid_bulk_modulus",
                  "porosity"});
     MaterialSpec s;
     s.where = locate(m.self());

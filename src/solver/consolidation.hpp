@@ -14,6 +14,7 @@
 // h the gravity head. s, the pressure unit, makes the rows a force and the unknowns a length
 // (p = s x): Newton's norms and the pivots then see one scale, whatever the units of p.
 #include "talus/core/types.hpp"
+#include "talus/material/material.hpp"
 #include "talus/spec/case_spec.hpp"
 #include "water_stiffness.hpp"
 
@@ -55,12 +56,12 @@ template <int Dim> struct Consolidation {
     Consolidation c;
     double modulus = 0;
     for (const MaterialSpec& m : spec.materials) {
-      const double nu = m.poisson_ratio, alpha = m.flow->biot_coefficient;
-      const double shear = m.youngs_modulus / (2 * (1 + nu));
+      const auto lame = LameParameters::from_young_poisson(m.youngs_modulus, m.poisson_ratio);
+      const double alpha = m.flow->biot_coefficient;
       c.flow.push_back({alpha, m.flow->inverse_biot_modulus,
                         m.flow->permeability / spec.water->unit_weight,
-                        spec.solver.pressure_projection * alpha * alpha / (2 * shear)});
-      modulus = std::max(modulus, m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)));
+                        spec.solver.pressure_projection * alpha * alpha / (2 * lame.mu)});
+      modulus = std::max(modulus, lame.p_wave_modulus());
     }
     const double g = spec.gravity.norm();
     if (!spec.water->phreatic.empty() && g > 0)
