@@ -303,6 +303,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"fast", "full", "stability"}));
   verify->add_option("--out", verify_options.out_dir, "Report directory (default results/verify)");
   verify->add_option("--case", verify_options.only, "Run only this case (repeatable)");
+  verify->add_flag("--list", verify_options.list, "Print the tier's case names and run none");
   verify->add_option("--threads", verify_options.threads, "OpenMP threads")
       ->check(CLI::NonNegativeNumber);
   verify

@@ -330,6 +330,8 @@ void check_consolidation_steps(Collector& out, const CaseSpec& spec) {
     return;
   const MaterialSpec* fastest = nullptr;
   const double c_v = largest_consolidation_coefficient(spec, fastest);
+  if (fastest == nullptr) // no c_v > 0: a modulus so small that 1 / M_c overflowed
+    return;
   const double h = spec.grid.cell_size;
   const double limit = kConsolidationStepFactor * h * h / c_v;
   const auto check = [&](const std::string& what, const TimeSpec& time, const std::string& key,

@@ -12,7 +12,10 @@
 //   r_i = s V_n [N_i (alpha (J - 1) + dp_p / M) + dt (k / gamma_w) grad N_i . (grad p - h)],
 // dp_p = sum_j N_j dp_j the point's increment, grad p = sum_j grad N_j p_j at the step's end,
 // h the gravity head. s, the pressure unit, makes the rows a force and the unknowns a length
-// (p = s x): Newton's norms and the pivots then see one scale, whatever the units of p.
+// (p = s x): Newton's norms and the pivots then see one scale, whatever the units of p. The
+// length is the cell, or in a step long enough for the water to flow farther than a cell the
+// flow's own (s^2 dt k / gamma_w = M_c): otherwise the flow's block outweighs the skeleton's by
+// c_v dt / h^2, and Newton stalls at that many times round-off (a steady seepage step).
 #include "talus/core/types.hpp"
 #include "talus/material/material.hpp"
 #include "talus/spec/case_spec.hpp"
@@ -21,6 +24,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -39,7 +43,16 @@ template <int Dim> struct Consolidation {
   std::vector<PoreFlow> flow; ///< per material
   /// gamma_w g / |g| with a water table (hydrostatic p does not flow), else zero.
   Vec<Dim> gravity_head = Vec<Dim>::Zero();
-  double pressure_unit = 1; ///< s: Pa per unit of the pressure unknown
+  double pressure_unit = 1; ///< s: Pa per unit of the pressure unknown, set per step
+  double stiffest = 0;      ///< the largest constrained modulus M_c of the materials
+  double mobility = 0;      ///< the largest k / gamma_w
+
+  /// s for a step of length dt on cells of size h (see above).
+  void set_pressure_unit(double dt, double h) {
+    pressure_unit = stiffest / h;
+    if (dt > 0 && mobility > 0)
+      pressure_unit = std::min(pressure_unit, std::sqrt(stiffest / (dt * mobility)));
+  }
 
   /// Per material: the pressure projection's tau.
   std::vector<double> projection() const {
@@ -54,19 +67,19 @@ template <int Dim> struct Consolidation {
     if (!spec.consolidates())
       return std::nullopt;
     Consolidation c;
-    double modulus = 0;
     for (const MaterialSpec& m : spec.materials) {
       const auto lame = LameParameters::from_young_poisson(m.youngs_modulus, m.poisson_ratio);
       const double alpha = m.flow->biot_coefficient;
       c.flow.push_back({alpha, m.flow->inverse_biot_modulus,
                         m.flow->permeability / spec.water->unit_weight,
                         spec.solver.pressure_projection * alpha * alpha / (2 * lame.mu)});
-      modulus = std::max(modulus, lame.p_wave_modulus());
+      c.stiffest = std::max(c.stiffest, lame.p_wave_modulus());
+      c.mobility = std::max(c.mobility, c.flow.back().mobility);
     }
     const double g = spec.gravity.norm();
     if (!spec.water->phreatic.empty() && g > 0)
       c.gravity_head = spec.water->unit_weight / g * head<Dim>(spec.gravity);
-    c.pressure_unit = modulus / h;
+    c.set_pressure_unit(0, h);
     return c;
   }
 };

@@ -108,8 +108,10 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
       node.reaction_face[at(n)] = scene.face_conditions.reaction_faces(map.nodes().ijk(n));
       node.owner[at(n)] = halo.owner(n);
     }
-    if (consolidation)
+    if (consolidation) {
+      consolidation->set_pressure_unit(l.dt, scene.grid.cell_size());
       prepare_pore_pressure(scene);
+    }
     number_unknowns(scene, l, heaviest);
     if (l.dynamic)
       project_inertia(P);
@@ -408,12 +410,14 @@ private:
       for (int a = 0; a < Dim; ++a)
         if (const Index dof = displacement_dof(n, a); dof >= 0)
           external[dof] += node.load[at(n)][a];
-    if (force_scale == 0) {
-      double modulus = 0;
-      for (const auto& m : scene.materials)
-        modulus = std::max(modulus, m->lame().p_wave_modulus());
-      force_scale = 1e-6 * modulus * scene.grid.cell_size();
-    }
+    // A load below the stress's round-off (eps E h) is no load: a scale that small made the
+    // tolerance infinite and KINSOL's line search loop on overflowed norms.
+    double modulus = 0;
+    for (const auto& m : scene.materials)
+      modulus = std::max(modulus, m->lame().p_wave_modulus());
+    const double cell_force = modulus * scene.grid.cell_size();
+    if (force_scale <= 1e3 * std::numeric_limits<double>::epsilon() * cell_force)
+      force_scale = 1e-6 * cell_force;
   }
 
   std::vector<double> node_modulus_; ///< per node: stiffest material it sees (ghost penalty)

@@ -4,6 +4,7 @@
 #include "talus/core/errors.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <fmt/format.h>
 #include <kinsol/kinsol.h>
@@ -219,6 +220,14 @@ NewtonReport solve_newton(NonlinearSystem& system, LinearSolver& linear_solver, 
   const auto n = static_cast<sunindextype>(system.size());
   if (x.size() != n)
     throw std::invalid_argument("solve_newton: initial guess has the wrong size");
+  // KINSOL's line search does not end on overflowed norms: refuse scales it cannot use.
+  for (const double v : {options.residual_scale, options.step_scale, options.residual_tolerance,
+                         1.0 / options.residual_scale, 1.0 / options.step_scale})
+    if (!std::isfinite(v) || v <= 0)
+      throw std::invalid_argument(fmt::format(
+          "solve_newton: scales and tolerance must be positive and finite (residual scale {:g}, "
+          "step scale {:g}, tolerance {:g})",
+          options.residual_scale, options.step_scale, options.residual_tolerance));
   Driver d{system, linear_solver, options, {}, nullptr, nullptr, false, {}, {}};
   KinsolSession k(system, d);
   view(k.u) = x;

@@ -27,6 +27,7 @@ VerificationCase self_weight_column();
 VerificationCase self_weight_column_3d();
 VerificationCase submerged_column();
 VerificationCase terzaghi();
+VerificationCase infinite_slope_seepage();
 VerificationCase column_large_compression();
 VerificationCase single_element();
 VerificationCase single_element_3d();

@@ -41,6 +41,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::self_weight_column_3d(),
                                                       verify_cases::submerged_column(),
                                                       verify_cases::terzaghi(),
+                                                      verify_cases::infinite_slope_seepage(),
                                                       verify_cases::column_large_compression(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),
@@ -143,6 +144,12 @@ int verify_under_mpirun(const VerifyOptions& options) {
 } // namespace
 
 int run_verification(const VerifyOptions& options) {
+  if (options.list) {
+    for (const auto& vc : verification_cases())
+      if (selected(vc, options))
+        fmt::print("{}\n", vc.name);
+    return kExitOk;
+  }
   const Communicator& ranks = Communicator::world();
   if (options.mpi > 0 && !ranks.distributed())
     return verify_under_mpirun(options);

@@ -145,6 +145,13 @@ TEST_F(CliWarnings, EachCheckWarnsAtItsKeyAndCanBeSilenced) {
        "consolidation_step",
        {"key 'time.dt'", "the loads change in steps of 0.0001 s, shorter than h^2 / (6 c_v)",
         "of material 'clay'"}},
+      {"a consolidation case whose modulus is a denormal 1e-310 Pa (1 / M_c overflows)",
+       edited("youngs_modulus: 2.0e7\n    poisson_ratio: 0.3",
+              "youngs_modulus: 1e-310\n    poisson_ratio: 0",
+              edited("friction_angle: 30", "friction_angle: 30\n    permeability: 1.0e-3")) +
+           "water: {unit_weight: 9810, level: 2}\n",
+       "youngs_modulus",
+       {"key 'materials[0].youngs_modulus'"}},
       {"a settlement in mm",
        edited("displacement: [~, -0.01]", "displacement: [~, -35]"),
        "displacement",

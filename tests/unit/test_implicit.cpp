@@ -229,6 +229,18 @@ TEST_F(Implicit, ImplicitUnloadedBodyStaysPut) {
   EXPECT_EQ(steps, 4);
 }
 
+// A load below the stress's round-off (here gravity of 1e-320 m/s^2, a denormal) is no load: the
+// steps converge at the initial guess. Such a load once gave Newton an infinite tolerance and an
+// overflowed residual scale, on which KINSOL's line search never ended (found by the fuzzer).
+TEST_F(Implicit, ImplicitLoadBelowRoundOffIsNoLoad) {
+  const talus::RunResult r =
+      run(kBlock, {"gravity=[0, -1e-320]", "boundaries={y_min: fixed}", "time.dt=0.5"},
+          "round_off_load");
+  ASSERT_EQ(r.status, "completed") << r.message;
+  EXPECT_EQ(r.extra.at("load_steps"), 2.0);
+  EXPECT_EQ(r.extra.at("newton_iterations"), 0.0);
+}
+
 // Implicit dynamics with solver.flip = 0 (PIC): a free block translating rigidly keeps its
 // velocity at every point, because the grid's end-of-step velocity is uniform and the shape
 // functions sum to one; it moves by v t. With flip = 0.5 the same holds (both parts agree).

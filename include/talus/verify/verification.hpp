@@ -99,6 +99,8 @@ struct VerifyOptions {
   /// > 0: run the selected cases that distribute under `mpirun -np mpi` (the others are not
   /// run; selecting one by --case is refused).
   int mpi = 0;
+  /// Print the selected cases' names, one per line, and run none.
+  bool list = false;
 };
 
 /// Runs the tier, prints the table, writes report.md and report.json; returns the exit code
