@@ -41,7 +41,7 @@ constexpr double kPlasticState = 2 * sizeof(PlasticHistory) + 2 * sizeof(Mat3) +
 constexpr double kSplitState = sizeof(Mat3) + sizeof(int);
 /// A frame's largest field buffer (stress, 9 doubles per point) written by the results writer.
 constexpr double kFrameBuffer = 9 * sizeof(double);
-/// The implicit solver's trial state per point (implicit_solver.cpp): trial F (Mat3), dF
+/// The implicit solver's trial state per point (implicit_solver_impl.hpp): trial F (Mat3), dF
 /// (Dim x Dim), the stress and its tangent, det dF, F-bar's H (Dim x Dim), FBarCells' point
 /// lists, and the tangent structure's stencil list.
 constexpr double implicit_point(int dims) {

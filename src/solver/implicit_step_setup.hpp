@@ -4,7 +4,7 @@
 // component of a node with mass that no face holds), the prescribed increments, the loads with
 // the force scale Newton's tolerance is relative to, the ghost-penalty faces, and for Newmark
 // the lumped mass with the projected velocity and acceleration per unknown
-// (implicit_solver.cpp assembles and solves on it). Each rank sets up its own points' step (a
+// (implicit_solver_impl.hpp assembles and solves on it). Each rank sets up its own points' step (a
 // serial run is a run on one rank): the halo (parallel/node_halo.hpp) makes the node sums
 // whole, every unknown gets its global id, and the ghost-penalty faces come from a view of the
 // neighbours' nodes.
