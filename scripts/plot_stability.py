@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Plot the histories of a stability verification case, one subplot per panel.
 
-    /usr/bin/python3 scripts/plot_stability.py HISTORIES.csv OUT.png "TITLE" [LOG_PANEL ...]
+    /usr/bin/python3 scripts/plot_stability.py [--x-label TEXT] HISTORIES.csv OUT.png "TITLE"
+                                               [LOG_PANEL ...]
 
 HISTORIES.csv (written by src/verify/histories.cpp) has columns panel, series, x, y: every
 series of a panel is drawn as one line against x (the simulated time, or the pseudo-time of a
 load ramp). Panels named after the title are drawn with a logarithmic vertical axis of |y|
-(zeros left out).
+(zeros left out). --x-label names the horizontal axis (default "t [s]"; a profile is drawn
+against depth).
 """
 
 import csv
@@ -19,11 +21,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def main():
-    if len(sys.argv) < 4:
-        sys.exit("usage: plot_stability.py HISTORIES.csv OUT.png TITLE [LOG_PANEL ...]")
-    log_panels = set(sys.argv[4:])
+    argv = sys.argv[1:]
+    x_label = "t [s]"
+    if len(argv) >= 2 and argv[0] == "--x-label":
+        x_label, argv = argv[1], argv[2:]
+    if len(argv) < 3:
+        sys.exit("usage: plot_stability.py [--x-label TEXT] HISTORIES.csv OUT.png TITLE "
+                 "[LOG_PANEL ...]")
+    log_panels = set(argv[3:])
     panels = {}
-    with open(sys.argv[1]) as f:
+    with open(argv[0]) as f:
         for row in csv.DictReader(f):
             series = panels.setdefault(row["panel"], {})
             xs, ys = series.setdefault(row["series"], ([], []))
@@ -41,12 +48,12 @@ def main():
             else:
                 ax.plot(xs, ys, label=label)
         ax.set_title(panel, fontsize=10)
-        ax.set_xlabel("t [s]")
+        ax.set_xlabel(x_label)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="best", ncol=2)
-    fig.suptitle(sys.argv[3], fontsize=11)
+    fig.suptitle(argv[2], fontsize=11)
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=110)
+    fig.savefig(argv[1], dpi=110)
 
 
 if __name__ == "__main__":

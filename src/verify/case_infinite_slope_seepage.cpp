@@ -19,10 +19,14 @@
 // purpose: the same layer with the table's hydrostatic pore pressure instead of the flow (no
 // permeability) is 25 % off in u and fails.
 #include "cases.hpp"
+#include "histories.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace talus::verify_cases {
 
@@ -32,12 +36,21 @@ constexpr double kDepth = 1.0, kSlope = 0.5 /* tan beta */, kSurfaceAtZero = 9.5
                  kHalfWidth = 1.0, kSaturatedWeight = 2.0e4, kWaterWeight = 1.0e4,
                  kCohesion = 2.0e3, kFrictionDeg = 35.0;
 constexpr double kPi = 3.14159265358979323846;
+const std::string kPanels[] = {"pore pressure u / (gamma_w D)",
+                               "effective normal stress sigma'_n / (gamma_w D)",
+                               "shear stress tau / (gamma_w D)"};
 
 struct SlopeErrors {
   double pore_pressure = 0, effective_normal = 0, shear = 0, factor = 0;
 };
 
-SlopeErrors slope_errors(const ResultsReader& results) {
+/// One soil point of the slope's middle 2 m: its depth and what it carries (compression
+/// positive, on the plane parallel to the surface through it).
+struct SlopePoint {
+  double z = 0, u = 0, effective = 0, shear = 0;
+};
+
+std::vector<SlopePoint> middle_points(const ResultsReader& results) {
   const Index last = results.frame_count() - 1;
   Index rows = 0, dims = 0, cols = 0;
   const auto x0 = results.read(last, "reference_position", &rows, &dims);
@@ -45,40 +58,99 @@ SlopeErrors slope_errors(const ResultsReader& results) {
   const auto p = results.read(last, "pore_pressure", &rows, &cols);
   const auto stress = results.read(last, "stress", &rows, &cols); // xx, xy, xz, yy, yz, zz
   const double beta = std::atan(kSlope), c = std::cos(beta), s = std::sin(beta);
-  const double tan_phi = std::tan(kFrictionDeg * kPi / 180);
   // n: the surface's outward normal; t: down the slope.
   const double nx = s, ny = c, tx = c, ty = -s;
-  double e_u = 0, n_u = 0, e_n = 0, n_n = 0, e_t = 0, n_t = 0, e_f = 0, n_f = 0;
+  std::vector<SlopePoint> points;
   for (Index i = 0; i < rows; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const double X = x0[k * at(dims)], Y = x0[k * at(dims) + 1];
-    const double z = kSurfaceAtZero - kSlope * X - Y;
-    if (material[k] != 0 || std::abs(X - kMiddle) > kHalfWidth || z < kDepth / 4 ||
-        z > 3 * kDepth / 4)
+    if (material[k] != 0 || std::abs(X - kMiddle) > kHalfWidth)
       continue;
     const double* S = &stress[k * at(cols)];
     const double sxx = S[0], sxy = S[1], syy = S[3];
-    const double normal = -(sxx * nx * nx + syy * ny * ny + 2 * sxy * nx * ny); // compression
+    const double normal = -(sxx * nx * nx + syy * ny * ny + 2 * sxy * nx * ny);
     const double shear = sxx * nx * tx + syy * ny * ty + sxy * (nx * ty + ny * tx);
-    const double effective = normal - p[k];
-    const double u = kWaterWeight * z * c * c;
-    const double exact_effective = (kSaturatedWeight - kWaterWeight) * z * c * c;
-    const double exact_shear = kSaturatedWeight * z * s * c;
-    const double factor = (kCohesion + effective * tan_phi) / std::abs(shear);
-    const double exact_factor = (kCohesion + exact_effective * tan_phi) / exact_shear;
-    e_u += (p[k] - u) * (p[k] - u);
-    n_u += u * u;
-    e_n += (effective - exact_effective) * (effective - exact_effective);
-    n_n += exact_effective * exact_effective;
-    e_t += (std::abs(shear) - exact_shear) * (std::abs(shear) - exact_shear);
-    n_t += exact_shear * exact_shear;
-    e_f += (factor - exact_factor) * (factor - exact_factor);
-    n_f += exact_factor * exact_factor;
+    points.push_back({kSurfaceAtZero - kSlope * X - Y, p[k], normal - p[k], std::abs(shear)});
+  }
+  return points;
+}
+
+/// The closed form at depth z: u, sigma'_n, tau.
+SlopePoint closed_form(double z) {
+  const double beta = std::atan(kSlope), c = std::cos(beta), s = std::sin(beta);
+  return {z, kWaterWeight * z * c * c, (kSaturatedWeight - kWaterWeight) * z * c * c,
+          kSaturatedWeight * z * s * c};
+}
+
+double factor_of_safety(const SlopePoint& p) {
+  return (kCohesion + p.effective * std::tan(kFrictionDeg * kPi / 180)) / p.shear;
+}
+
+/// Relative L2 errors between depths D/4 and 3D/4 (the surface cell's values are small, and
+/// the points in the cells shared with the stiff rock are held by it).
+SlopeErrors slope_errors(const std::vector<SlopePoint>& points) {
+  double e_u = 0, n_u = 0, e_n = 0, n_n = 0, e_t = 0, n_t = 0, e_f = 0, n_f = 0;
+  for (const SlopePoint& p : points) {
+    if (p.z < kDepth / 4 || p.z > 3 * kDepth / 4)
+      continue;
+    const SlopePoint e = closed_form(p.z);
+    const double f = factor_of_safety(p), exact_f = factor_of_safety(e);
+    e_u += (p.u - e.u) * (p.u - e.u);
+    n_u += e.u * e.u;
+    e_n += (p.effective - e.effective) * (p.effective - e.effective);
+    n_n += e.effective * e.effective;
+    e_t += (p.shear - e.shear) * (p.shear - e.shear);
+    n_t += e.shear * e.shear;
+    e_f += (f - exact_f) * (f - exact_f);
+    n_f += exact_f * exact_f;
   }
   // A run that measured nothing fails the row instead of passing it.
   if (!(n_u > 0))
     throw std::runtime_error("infinite_slope_seepage: no soil point in the measured band");
   return {std::sqrt(e_u / n_u), std::sqrt(e_n / n_n), std::sqrt(e_t / n_t), std::sqrt(e_f / n_f)};
+}
+
+/// The points' mean u, sigma'_n and tau per layer of depth h, over gamma_w D, into `plot`.
+void add_profiles(HistoryPlot& plot, const std::vector<SlopePoint>& points, int n) {
+  std::vector<double> count(at(n), 0.0);
+  std::vector<SlopePoint> sum(at(n));
+  for (const SlopePoint& p : points) {
+    const int layer = std::clamp(static_cast<int>(p.z / kDepth * n), 0, n - 1);
+    count[at(layer)] += 1;
+    sum[at(layer)].z += p.z;
+    sum[at(layer)].u += p.u;
+    sum[at(layer)].effective += p.effective;
+    sum[at(layer)].shear += p.shear;
+  }
+  History u{kPanels[0], fmt::format("D/{}", n), {}, {}}, e{kPanels[1], u.series, {}, {}},
+      t{kPanels[2], u.series, {}, {}};
+  const double scale = kWaterWeight * kDepth;
+  for (int k = 0; k < n; ++k) {
+    const double m = count[at(k)];
+    if (m == 0)
+      continue;
+    for (History* h : {&u, &e, &t})
+      h->x.push_back(sum[at(k)].z / m / kDepth);
+    u.y.push_back(sum[at(k)].u / m / scale);
+    e.y.push_back(sum[at(k)].effective / m / scale);
+    t.y.push_back(sum[at(k)].shear / m / scale);
+  }
+  for (History* h : {&u, &e, &t})
+    plot.add(std::move(*h));
+}
+
+void add_closed_form(HistoryPlot& plot) {
+  History u{kPanels[0], "closed form", {0, 1}, {}}, e{kPanels[1], u.series, {0, 1}, {}},
+      t{kPanels[2], u.series, {0, 1}, {}},
+      hydrostatic{kPanels[0], "hydrostatic gamma_w z", {0, 1}, {0, 1}};
+  for (const double z : {0.0, kDepth}) {
+    const SlopePoint c = closed_form(z);
+    u.y.push_back(c.u / (kWaterWeight * kDepth));
+    e.y.push_back(c.effective / (kWaterWeight * kDepth));
+    t.y.push_back(c.shear / (kWaterWeight * kDepth));
+  }
+  for (History* h : {&u, &hydrostatic, &e, &t})
+    plot.add(std::move(*h));
 }
 
 } // namespace
@@ -96,12 +168,15 @@ VerificationCase infinite_slope_seepage() {
     const std::vector<int> divisions =
         ctx.tier == "full" ? std::vector<int>{8, 16, 32} : std::vector<int>{8, 16};
     std::vector<SlopeErrors> errors;
+    HistoryPlot plot({}, "depth below the surface z / D");
     for (const int n : divisions) {
       const auto dir = ctx.out_dir / fmt::format("D{}", n);
       const RunResult run = run_quiet(
           load_verification_case(ctx, {fmt::format("grid.cell_size={:.17g}", kDepth / n)}), dir,
           ctx.threads);
-      errors.push_back(slope_errors(ResultsReader(dir / "run.h5")));
+      const std::vector<SlopePoint> points = middle_points(ResultsReader(dir / "run.h5"));
+      errors.push_back(slope_errors(points));
+      add_profiles(plot, points, n);
       const SlopeErrors& e = errors.back();
       checks.push_back(within_check(
           fmt::format("load steps of the four-step stage, D/{}", n), static_cast<double>(run.steps),
@@ -113,6 +188,9 @@ VerificationCase infinite_slope_seepage() {
       checks.push_back(report_only(fmt::format("L2 of tau, D/{}", n), e.shear));
       checks.push_back(report_only(fmt::format("L2 of F, D/{}", n), e.factor));
     }
+    add_closed_form(plot);
+    plot.write(ctx.out_dir, "infinite_slope_seepage",
+               "Infinite slope 1:2, seepage parallel to the surface: the points' mean per layer");
     const SlopeErrors& fine = errors.back();
     const int n = divisions.back();
     const bool full = n == 32;

@@ -27,7 +27,8 @@ void HistoryPlot::write(const std::filesystem::path& dir, const std::string& nam
     for (std::size_t k = 0; k < h.x.size(); ++k)
       out << fmt::format("\"{}\",\"{}\",{:.10g},{:.10g}\n", h.panel, h.series, h.x[k], h.y[k]);
   out.close();
-  std::vector<std::string> args = {csv.string(), (dir / (name + ".png")).string(), title};
+  std::vector<std::string> args = {"--x-label", x_label_, csv.string(),
+                                   (dir / (name + ".png")).string(), title};
   args.insert(args.end(), log_panels_.begin(), log_panels_.end());
   run_python_script("plot_stability.py", args);
 }

@@ -1,5 +1,5 @@
 #pragma once
-// Time histories that the stability cases plot in their report figure: one CSV of
+// Time histories (or profiles) that verification cases plot in their report figure: one CSV of
 // (panel, series, x, y) rows drawn by scripts/plot_stability.py, one subplot per panel.
 #include "talus/io/csv.hpp"
 
@@ -17,9 +17,10 @@ struct History {
 
 class HistoryPlot {
 public:
-  /// `log_panels`: panels whose vertical axis is logarithmic (absolute values are plotted).
-  explicit HistoryPlot(std::vector<std::string> log_panels = {})
-      : log_panels_(std::move(log_panels)) {}
+  /// `log_panels`: panels whose vertical axis is logarithmic (absolute values are plotted);
+  /// `x_label`: the horizontal axis's label (a profile plots against depth, not time).
+  explicit HistoryPlot(std::vector<std::string> log_panels = {}, std::string x_label = "t [s]")
+      : log_panels_(std::move(log_panels)), x_label_(std::move(x_label)) {}
   void add(History h) { histories_.push_back(std::move(h)); }
   /// Adds `column` of a timeseries against time, transformed by y -> (y / y(0) - 1) when
   /// `relative` (energy histories).
@@ -31,6 +32,7 @@ public:
 
 private:
   std::vector<std::string> log_panels_;
+  std::string x_label_;
   std::vector<History> histories_;
 };
 
