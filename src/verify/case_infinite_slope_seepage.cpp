@@ -178,11 +178,12 @@ VerificationCase infinite_slope_seepage() {
       errors.push_back(slope_errors(points));
       add_profiles(plot, points, n);
       const SlopeErrors& e = errors.back();
-      checks.push_back(within_check(
-          fmt::format("load steps of the four-step stage, D/{}", n), static_cast<double>(run.steps),
-          4, 4,
-          "Newton converges each steady step without a cutback (160 steps at D/8 with the "
-          "pressure unknown scaled by the cell instead of the flow's length)"));
+      checks.push_back(
+          within_check(fmt::format("load steps of the four-step stage, D/{}", n),
+                       static_cast<double>(run.steps), 4, 4,
+                       "Newton converges each steady step without a cutback (160 steps on an 8 m "
+                       "layer at D/8 with the "
+                       "pressure unknown scaled by the cell instead of the flow's length)"));
       checks.push_back(report_only(fmt::format("L2 of u, D/{}", n), e.pore_pressure));
       checks.push_back(report_only(fmt::format("L2 of sigma'_n, D/{}", n), e.effective_normal));
       checks.push_back(report_only(fmt::format("L2 of tau, D/{}", n), e.shear));
