@@ -14,13 +14,8 @@ Decomposition<Dim> Decomposition<Dim>::partition(const Communicator& comm, const
   // Points per cell, each cell once per rank, at its centre.
   std::map<std::array<Index, Dim>, double> per_cell;
   const double h = grid.cell_size();
-  for (const Vec<Dim>& x : positions) {
-    std::array<Index, Dim> cell{};
-    for (int d = 0; d < Dim; ++d)
-      cell[static_cast<std::size_t>(d)] = std::clamp<Index>(
-          static_cast<Index>(std::floor((x[d] - grid.origin()[d]) / h)), 0, grid.cells(d) - 1);
-    per_cell[cell] += 1.0;
-  }
+  for (const Vec<Dim>& x : positions)
+    per_cell[grid.cell_of(x)] += 1.0;
   std::vector<double> centres, weights;
   for (const auto& [cell, count] : per_cell) {
     for (int d = 0; d < Dim; ++d)

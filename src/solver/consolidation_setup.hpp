@@ -44,11 +44,7 @@ void mark_drained_nodes(const ParticleGridMap<Dim, Shape>& map, const Particles<
   // d of k along each d).
   std::vector<double> count(at(map.node_count()) * kCorners, 0.0);
   for (Index p = 0; p < P.size(); ++p) {
-    std::array<Index, Dim> cell{};
-    for (int d = 0; d < Dim; ++d) {
-      const double s = std::floor((P.x[at(p)][d] - grid.origin()[d]) / grid.cell_size());
-      cell[at(d)] = std::clamp<Index>(static_cast<Index>(s), 0, grid.cells(d) - 1);
-    }
+    const std::array<Index, Dim> cell = grid.cell_of(P.x[at(p)]);
     for (int k = 0; k < kCorners; ++k) {
       std::array<Index, Dim> ijk = cell;
       for (int d = 0; d < Dim; ++d)

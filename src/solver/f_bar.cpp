@@ -8,16 +8,13 @@ namespace talus {
 
 template <int Dim> void FBarCells::build(const Grid<Dim>& grid, const Particles<Dim>& particles) {
   const auto np = static_cast<std::size_t>(particles.size());
-  const double h = grid.cell_size();
   // Lattice cell of every point; a point exactly on the far boundary belongs to the last cell.
   std::vector<Index> lattice(np);
   for (std::size_t p = 0; p < np; ++p) {
+    const std::array<Index, Dim> cell = grid.cell_of(particles.x[p]);
     Index flat = 0;
-    for (int d = Dim - 1; d >= 0; --d) {
-      const double s = (particles.x[p][d] - grid.origin()[d]) / h;
-      const Index i = std::clamp<Index>(static_cast<Index>(std::floor(s)), 0, grid.cells(d) - 1);
-      flat = flat * grid.cells(d) + i;
-    }
+    for (int d = Dim - 1; d >= 0; --d)
+      flat = flat * grid.cells(d) + cell[static_cast<std::size_t>(d)];
     lattice[p] = flat;
   }
   // Group by lattice cell (stable, so points keep their order inside a cell), then number the

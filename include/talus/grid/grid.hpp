@@ -5,7 +5,9 @@
 // boundary nodes only; a particle whose centre leaves the physical domain is an error.
 #include "talus/core/types.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace talus {
 
@@ -62,6 +64,15 @@ public:
     for (int d = 0; d < Dim; ++d)
       x[d] = origin_[d] + h_ * static_cast<double>(ijk[d]);
     return x;
+  }
+  /// The cell that holds x (clamped to the grid: a point on the far boundary is in the last
+  /// cell).
+  std::array<Index, Dim> cell_of(const Vec<Dim>& x) const {
+    std::array<Index, Dim> cell{};
+    for (int d = 0; d < Dim; ++d)
+      cell[d] = std::clamp<Index>(static_cast<Index>(std::floor((x[d] - origin_[d]) / h_)), 0,
+                                  cells_[d] - 1);
+    return cell;
   }
   bool inside(const Vec<Dim>& x) const {
     for (int d = 0; d < Dim; ++d) {
