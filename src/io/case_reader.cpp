@@ -244,7 +244,7 @@ CaseSpec Validator::read(const YAML::Node& root) const {
                "case has no water section, the phreatic surface below which it applies");
   check_consolidation(top, spec);
   if (top.present("boundaries"))
-    spec.boundaries = boundaries(top["boundaries"]);
+    spec.boundaries = boundaries(top["boundaries"], spec);
   if (top.present("point_loads"))
     spec.point_loads = point_loads(top["point_loads"], spec);
   if (top.present("tractions"))

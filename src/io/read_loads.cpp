@@ -4,7 +4,7 @@
 
 namespace talus::detail {
 
-BoundarySpec Validator::boundaries(const Item& it) const {
+BoundarySpec Validator::boundaries(const Item& it, const CaseSpec& spec) const {
   std::vector<std::string> keys;
   for (int f = 0; f < face_count(dimension_); ++f)
     keys.push_back(face_name(f));
@@ -19,11 +19,21 @@ BoundarySpec Validator::boundaries(const Item& it) const {
   const std::vector<std::pair<std::string, FaceCondition>> options{
       {"free", FaceCondition::Free},
       {"fixed", FaceCondition::Fixed},
-      {"roller", FaceCondition::Roller}};
+      {"roller", FaceCondition::Roller},
+      {"platen", FaceCondition::Platen}};
   BoundarySpec b;
-  for (int f = 0; f < face_count(dimension_); ++f)
-    if (m.has(face_name(f)))
-      b[f] = choice(m[face_name(f)], options);
+  for (int f = 0; f < face_count(dimension_); ++f) {
+    if (!m.has(face_name(f)))
+      continue;
+    b[f] = choice(m[face_name(f)], options);
+    if (b[f] != FaceCondition::Platen)
+      continue;
+    // The explicit step has no unknown the face's nodes could share.
+    if (const std::string stage = explicit_stage(spec); !stage.empty())
+      fail(m[face_name(f)], "a platen needs an implicit analysis (implicit_quasistatic or "
+                            "implicit_dynamic), but " +
+                                stage + " is explicit");
+  }
   return b;
 }
 

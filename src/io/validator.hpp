@@ -355,7 +355,7 @@ private:
   void body_inside_grid(const Map& m, const BodySpec& b, const GridSpec& g) const;
   /// Axisymmetry: the body lies in r = x >= 0 (a body of revolution cannot cross its axis).
   void body_off_axis(const Map& m, const BodySpec& b) const;
-  BoundarySpec boundaries(const Item& it) const;
+  BoundarySpec boundaries(const Item& it, const CaseSpec& spec) const;
   std::vector<PointLoadSpec> point_loads(const Item& it, const CaseSpec& spec) const;
   std::vector<TractionSpec> tractions(const Item& it, const CaseSpec& spec) const;
   std::vector<PrescribedSpec> prescribed(const Item& it, const CaseSpec& spec) const;

@@ -67,16 +67,20 @@ void DofMap::add_to_global(const Eigen::VectorXd& local, Eigen::VectorXd& global
     global[gids_[l]] += local[static_cast<Eigen::Index>(l)];
 }
 
-void DofMap::add_to_global(const SparseMatrix& local, SparseMatrix& global) const {
+SparseMatrix remapped(const SparseMatrix& K, std::span<const Index> to, Index size) {
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<std::size_t>(local.nonZeros()));
-  for (int col = 0; col < local.outerSize(); ++col)
-    for (SparseMatrix::InnerIterator it(local, col); it; ++it)
-      entries.emplace_back(static_cast<int>(gids_[at(it.row())]),
-                           static_cast<int>(gids_[at(it.col())]), it.value());
-  SparseMatrix scattered(global.rows(), global.cols());
-  scattered.setFromTriplets(entries.begin(), entries.end());
-  global += scattered;
+  entries.reserve(static_cast<std::size_t>(K.nonZeros()));
+  for (int col = 0; col < K.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(K, col); it; ++it)
+      entries.emplace_back(static_cast<int>(to[at(it.row())]), static_cast<int>(to[at(it.col())]),
+                           it.value());
+  SparseMatrix out(size, size);
+  out.setFromTriplets(entries.begin(), entries.end());
+  return out;
+}
+
+void DofMap::add_to_global(const SparseMatrix& local, SparseMatrix& global) const {
+  global += remapped(local, gids_, global.rows());
 }
 
 } // namespace talus

@@ -105,6 +105,9 @@ void refuse_unsupported_distributed(const CaseSpec& spec, const RunOptions& opti
 #endif
   if (!options.dump_tangent.empty())
     refuse("--dump-tangent");
+  for (int f = 0; f < face_count(spec.dimension); ++f)
+    if (spec.boundaries[f] == FaceCondition::Platen)
+      refuse(fmt::format("a platen (boundaries.{})", face_name(f)));
 }
 
 /// A resumed run's starting point: its newest valid checkpoint, read and checked against the

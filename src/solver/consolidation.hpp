@@ -1,8 +1,9 @@
 #pragma once
 // Biot consolidation in an implicit step (docs/architecture.md, "Consolidation"): the pore
 // pressure p is a nodal unknown beside the displacement, coupled to the skeleton by
-//   balance:  the points' effective stress with the body force -alpha grad p (the volume form
-//             of the free water, implicit_trial_state.hpp), on the current volume;
+//   balance:  the points' effective stress less alpha (p - u) I, the excess over the water
+//             table's u, with the body force -alpha grad u (the volume form of the free water,
+//             implicit_trial_state.hpp), on the current volume;
 //   mass:     alpha (J - 1) + dp / M + dt div q = 0 per unit of the step's start volume, backward
 //             Euler, Darcy's q = -(k / gamma_w) (grad p - gamma_w g / |g|) on the step's start
 //             configuration (with a water table p is the whole pore pressure; without one the
@@ -108,18 +109,17 @@ template <int Dim, bool Axisymmetric, int kNodes> struct BiotPoint {
     return s * volume_n * (volume * weights + drive.transpose() * grads);
   }
 
-  /// K_up += d(balance)/dp (s N_i J V_n alpha grad N_j), K_pu += d r / du
-  /// (s V_n alpha N_i dJ/du_j), K_pp += d r / dp (s^2 V_n (N_i N_j / M + dt k/gamma_w
-  /// grad N_i . grad N_j)).
+  /// K_pu += d r / du (s V_n alpha N_i dJ/du_j); K_up += d(balance)/dp = -K_pu^T (the
+  /// excess pressure's force -alpha p V grad N_i, V = J V_n, on the current configuration:
+  /// d/dp_j = -s alpha N_j V_n dJ/du_i); K_pp += d r / dp (s^2 V_n (N_i N_j / M
+  /// + dt k/gamma_w grad N_i . grad N_j)).
   template <class Up, class Pu, class Pp> void add_blocks(Up& K_up, Pu& K_pu, Pp& K_pp) const {
-    const double J = dF.determinant();
     const Eigen::Matrix<double, 1, Dim* kNodes> dJ =
         volume_change_gradient<Dim, Axisymmetric, kNodes>(grads, hoop, dF);
     for (int i = 0; i < kNodes; ++i) {
       const double c = s * flow.alpha * volume_n * weights[i];
-      for (int a = 0; a < Dim; ++a)
-        K_up.row(Dim * i + a) += (c * J) * grads.row(a);
       K_pu.row(i) += c * dJ;
+      K_up.col(i) -= c * dJ.transpose();
     }
     K_pp.noalias() += (s * s * volume_n) * (flow.storage * weights.transpose() * weights +
                                             dt * flow.mobility * grads.transpose() * grads);

@@ -18,7 +18,7 @@ bool body_is_held(const CaseSpec& spec, const BodySpec& body) {
   bounding_box(body, spec.dimension, lo, hi);
   const double h = spec.grid.cell_size;
   for (int f = 0; f < face_count(spec.dimension); ++f) {
-    if (spec.boundaries[f] == FaceCondition::Free)
+    if (spec.boundaries[f] == FaceCondition::Free || spec.boundaries[f] == FaceCondition::Platen)
       continue;
     const int a = face_axis(f);
     const double face = spec.grid.origin[a] + (face_is_upper(f) ? spec.grid.extent[a] : 0.0);

@@ -64,6 +64,13 @@ public:
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
     const bool symmetric = symmetric_implicit_tangent(scene.spec);
     comm_ = &scene.decomposition->comm();
+    if (comm_->size() > 1)
+      for (int f = 0; f < face_count(Dim); ++f)
+        if (scene.spec.boundaries[f] == FaceCondition::Platen)
+          throw InputError({"mpirun", 0, 0, ""},
+                           fmt::format("a platen (boundaries.{}) does not run distributed yet; "
+                                       "run it without mpirun",
+                                       face_name(f)));
     LinearSolverOptions options;
     options.kind = serial_linear_solver_kind(symmetric);
     linear_ = make_rank_linear_solver(options, symmetric, comm_->size(), comm_->mpi());
@@ -136,7 +143,7 @@ public:
     if (report.converged) {
       if (measure_compliance_ && !dynamic_ && report.factorizations > 0)
         load_compliance_ = compliance_under_load();
-      commit(overlap_increment(du), dt);
+      commit(overlap_increment(step_.shared.expand(du)), dt);
       ramp_committed_ = ramp_end;
     }
     return report;
@@ -165,23 +172,30 @@ public:
   void particles_changed() override { trial_.resize(); }
 
   // --- NonlinearSystem ----------------------------------------------------------------------
-  // The owned unknowns (Newton's vectors hold those; on one rank every unknown).
-  Index size() const override { return step_.owned_dof_count; }
-  Index global_size() const override { return step_.global_dof_count; }
+  // The owned unknowns, reduced where a platen's nodes share one (Newton's vectors hold those;
+  // on one rank every unknown).
+  Index size() const override {
+    return step_.shared.any() ? step_.shared.size() : step_.owned_dof_count;
+  }
+  Index global_size() const override {
+    return step_.shared.any() ? step_.shared.size() : step_.global_dof_count;
+  }
   const Communicator* communicator() const override { return comm_; }
 
   // This rank's points on the unknowns it sees, then the ranks' shares added on the owners.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
-    Eigen::VectorXd mine;
-    const bool admissible =
-        !comm_->any(!assemble_share(whole_, whole_map_, overlap_increment(du), &mine, nullptr));
-    if (admissible)
-      linear_->export_add(mine, r);
+    Eigen::VectorXd mine, owned;
+    const bool admissible = !comm_->any(!assemble_share(
+        whole_, whole_map_, overlap_increment(step_.shared.expand(du)), &mine, nullptr));
+    if (admissible) {
+      linear_->export_add(mine, owned);
+      r = step_.shared.condense(owned);
+    }
     return admissible;
   }
 
   const SparseMatrix& jacobian(const Eigen::VectorXd& du_owned) override {
-    const Eigen::VectorXd du = overlap_increment(du_owned);
+    const Eigen::VectorXd du = overlap_increment(step_.shared.expand(du_owned));
     if (!trial_.matches(whole_, du) && !update_trial_state(whole_, whole_map_, du))
       throw NumericalError("material update failed while assembling the tangent");
     // Within a step the connectivity is fixed; a new step keeps the symbolic analysis when its
@@ -191,7 +205,7 @@ public:
     const SparseMatrix& K = share_tangent(whole_, whole_map_, built);
     if (built && (!linear_->keeps_analysis_across_steps() || !tangent_.same_structure_as_before()))
       ++pattern_generation_;
-    return K;
+    return step_.shared.condense(K);
   }
 
   bool pattern_changed() const override { return pattern_generation_ != analysed_generation_; }
@@ -199,9 +213,10 @@ public:
 
   // The node and component of an unknown, and its diagonal stiffness against the largest: a
   // node that nothing stiff holds (a unit mistake, a body held nowhere) shows as a tiny ratio.
-  std::string describe_unknown(Index i) const override {
-    if (i < 0)
+  std::string describe_unknown(Index reduced) const override {
+    if (reduced < 0)
       return {};
+    const Index i = step_.shared.first_of(reduced);
     const NodeLayout& layout = step_.dofs.layout();
     for (Index n = 0; n < step_.map.node_count(); ++n)
       for (int k = 0; k < layout.width(); ++k) {
@@ -243,14 +258,22 @@ public:
     whole_map_ = DofMap(whole_.index, std::move(nodes), step_.dofs, step_.node.owner);
     if (whole_map_.owned_count() != step_.owned_dof_count)
       throw std::logic_error("the rank's DOF map does not number its owned unknowns first");
-    linear_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
+    if (step_.sharing_changed)
+      ++pattern_generation_;
+    if (step_.shared.any()) { // one rank: the reduced unknowns are their own global ids
+      std::vector<Index> ids(at(size()));
+      std::iota(ids.begin(), ids.end(), Index{0});
+      linear_->set_unknowns(ids, size(), size());
+    } else {
+      linear_->set_unknowns(step_.dof_gid, step_.owned_dof_count, step_.global_dof_count);
+    }
     if (linear_->uses_coordinates())
       linear_->set_coordinates(unknown_positions());
     if (whole_map_.overlap_count() != step_.dof_count) // every unknown sits on a point's stencil
       throw std::logic_error("the DOF map does not cover every unknown");
     if (linear_->uses_near_null_space())
-      linear_->set_near_null_space(
-          near_null_space<Dim, Axisymmetric>(step_.map.nodes(), step_.dofs, step_.dof_count));
+      linear_->set_near_null_space(step_.shared.first_rows(
+          near_null_space<Dim, Axisymmetric>(step_.map.nodes(), step_.dofs, step_.dof_count)));
   }
 
   const NodeDofs& global_dofs() const override { return step_.dofs; }
@@ -330,7 +353,7 @@ private:
   /// Newton used last: its tangent is within the convergence tolerance of the converged state's.
   double compliance_under_load() {
     const AddSeconds timer(timings_.solve);
-    const Eigen::VectorXd f = step_.external.head(size());
+    const Eigen::VectorXd f = step_.shared.condense(step_.external.head(step_.owned_dof_count));
     Eigen::VectorXd z;
     try {
       linear_->solve(f, z);
@@ -356,7 +379,7 @@ private:
       for (int k = 0; k < step_.dofs.layout().width(); ++k)
         if (const Index dof = step_.dofs.dof(n, k); dof >= 0)
           xyz.row(dof) = step_.map.nodes().position(n).transpose();
-    return xyz;
+    return step_.shared.first_rows(xyz);
   }
 
   /// Whether the map's share assembles the ghost-penalty face: the rank's own map every face

@@ -18,6 +18,7 @@
 #include "consolidation_setup.hpp"
 #include "implicit_node_fields.hpp"
 #include "pressure_projection.hpp"
+#include "shared_unknowns.hpp"
 
 #include <Eigen/Core>
 
@@ -63,6 +64,10 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
   Index global_dof_count = 0;  ///< the unknowns of every rank (owned ones counted once)
   Index global_node_count = 0; ///< the active nodes of every rank (each counted once)
   Index dof_count = 0;
+  /// The unknowns a platen's nodes share (shared_unknowns.hpp); Newton solves for the reduced.
+  SharedUnknowns shared;
+  /// Whether this step's sharing differs from the last step's (the reduced pattern then does).
+  bool sharing_changed = false;
   Eigen::VectorXd external; ///< per unknown: the load
   double force_scale = 1;
   std::vector<double> dof_mass, grid_v, grid_a; ///< Newmark state per unknown (dynamic)
@@ -157,6 +162,21 @@ private:
       }
     owned_dof_count = std::min(owned_dof_count, dof_count);
     number_globally(scene.decomposition->comm());
+    share_platens(scene);
+  }
+
+  // A platen's nodes share its normal displacement: one group per platen face.
+  void share_platens(const Scene<Dim>& scene) {
+    shared.reset(owned_dof_count);
+    for (Index n = 0; n < map.node_count(); ++n)
+      for (int a = 0; a < Dim; ++a)
+        if (const Index dof = displacement_dof(n, a); dof >= 0)
+          if (const int face = scene.face_conditions.platen(map.nodes().ijk(n), a); face >= 0) {
+            if (dof >= owned_dof_count) // the solver refuses a platen over several ranks
+              throw std::logic_error("a platen's unknown on a node another rank owns");
+            shared.share(dof, face);
+          }
+    sharing_changed = shared.finish();
   }
 
   // The nodes' pore pressure at the step's start: the points' projected, and on the drained

@@ -60,6 +60,7 @@ public:
     if (consolidates_) { // the points' own pressure, set with each trial increment
       const auto np = scene_.particles.x.size();
       pore_pressure_.resize(np);
+      excess_.resize(np);
       water_force_.resize(np);
       pressure_increment_.resize(np);
       pressure_gradient_.resize(np);
@@ -135,8 +136,10 @@ public:
 
   /// Consolidation (consolidation.hpp): the share's points' pore pressure at the trial
   /// increment, from the nodes' pressure at the step's start, node_pressure, and their
-  /// increments dp(n): p = p_n + sum N dp, grad p = sum grad N (p_n + dp), and the water's
-  /// force alpha V_n grad p; flow per material.
+  /// increments dp(n): p = p_n + sum N dp, grad p = sum grad N (p_n + dp); the water table's
+  /// part u of p presses as the water at rest does (the force alpha V_n grad u), the excess
+  /// p - u as a stress, alpha (p - u) off the total (it does not press on a face that holds
+  /// or loads the body: only free water does); flow per material.
   template <class Increment>
   void update_pore_pressure(const ParticleShare& share, const ParticleGridMap<Dim, Shape>& map,
                             const std::vector<double>& node_pressure, Increment&& dp,
@@ -155,22 +158,23 @@ public:
       pressure_increment_[s] = increment;
       pressure_gradient_[s] = gradient;
       pore_pressure_[s] = P.pore_pressure[s] + increment;
-      water_force_[s] = alpha * P.volume[s] * gradient;
+      excess_[s] = alpha * (pore_pressure_[s] - scene_.water.template pore_pressure<Dim>(P.x[s]));
+      water_force_[s] = alpha * P.volume[s] * scene_.water.template pressure_gradient<Dim>(P.x[s]);
     });
   }
 
   /// Calls f(node, weight, force) for the nodes of point p's stencil with the point's force on
-  /// the grid at its trial state: V0 G grad N, G = tau' dF^-T the step's first Piola stress of
-  /// the effective stress (and F-bar's volume ratio), plus the hoop term V0 G33 N / r_n on the
-  /// radial component; with water, plus N V grad u (pore_water.hpp), V = det(dF) V_n the
-  /// point's current volume.
+  /// the grid at its trial state: V0 G grad N, G = tau dF^-T the step's first Piola stress of
+  /// the effective stress (and F-bar's volume ratio; in consolidation less the excess pore
+  /// pressure's alpha (p - u) J), plus the hoop term V0 G33 N / r_n on the radial component;
+  /// with water, plus N V grad u (pore_water.hpp), V = det(dF) V_n the point's current volume.
   template <class F>
   void for_each_internal_force(const ParticleGridMap<Dim, Shape>& map, Index p, F&& f) const {
     const auto s = at(p);
     const Mat3 dF = step_gradient(s);
     const Mat3 dF_inv = dF.inverse();
     const Mat3 G =
-        scene_.particles.volume0[s] * volume_ratio(s) * response_[s].kirchhoff * dF_inv.transpose();
+        scene_.particles.volume0[s] * volume_ratio(s) * balanced_kirchhoff(s) * dF_inv.transpose();
     const M G2 = G.topLeftCorner<Dim, Dim>();
     [[maybe_unused]] const double hoop_per_weight = Axisymmetric ? G(2, 2) / radius_n(s) : 0.0;
     // A dry step adds nothing per node (and stays bitwise the dry force).
@@ -199,9 +203,10 @@ public:
   /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
   StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
     const Mat3& Fn = scene_.particles.F[s];
+    const StressTangent r = total_response(s);
     if (!f_bar_)
-      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, response_[s]);
-    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, response_[s]);
+      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, r);
+    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, r);
   }
 
   /// The 3x3 trial step gradient of point s: its Dim x Dim block, and the hoop stretch.
@@ -221,7 +226,16 @@ public:
     return f_bar_ ? f_bar_step_.volume_ratio(static_cast<Index>(s)) : 1.0;
   }
   const Mat3& F(std::size_t s) const { return F_[s]; }
+  /// The material's Kirchhoff stress (the effective one with water).
   const Mat3& kirchhoff(std::size_t s) const { return response_[s].kirchhoff; }
+  /// The Kirchhoff stress the point's force takes: the material's, in consolidation less the
+  /// excess pore pressure's alpha (p - u) J I.
+  Mat3 balanced_kirchhoff(std::size_t s) const {
+    Mat3 tau = response_[s].kirchhoff;
+    if (consolidates_)
+      tau.diagonal().array() -= excess_[s] * F_[s].determinant();
+    return tau;
+  }
   /// The pore pressure u of point s in this step (zero while no water acts).
   double pore_pressure(std::size_t s) const {
     return pore_pressure_.empty() ? 0.0 : pore_pressure_[s];
@@ -240,6 +254,21 @@ public:
   FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
 
 private:
+  /// balanced_kirchhoff(s) with its derivative: d(J I)_ij / dF_kl = J F^-1_lk delta_ij.
+  StressTangent total_response(std::size_t s) const {
+    StressTangent r = response_[s];
+    if (!consolidates_)
+      return r;
+    const double J = F_[s].determinant();
+    const Mat3 inv = F_[s].inverse();
+    r.kirchhoff.diagonal().array() -= excess_[s] * J;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+          r.dtau_dF(3 * i + i, 3 * k + l) -= excess_[s] * J * inv(l, k);
+    return r;
+  }
+
   /// The share's points of material m (the material's list is ascending).
   std::span<const Index> points_of_material(std::size_t m, const ParticleShare& share) const {
     const auto& ids = scene_.particles_of_material[m];
@@ -250,6 +279,7 @@ private:
   Scene<Dim>& scene_;
   std::vector<double> pore_pressure_;      ///< per point: u in this step (with water only)
   std::vector<V> water_force_;             ///< per point: V_n grad u in this step (with water only)
+  std::vector<double> excess_;             ///< per point: alpha (p - u) (consolidation only)
   std::vector<double> pressure_increment_; ///< per point: dp (consolidation only)
   std::vector<V> pressure_gradient_;       ///< per point: grad p at the step's end (consolidation)
   bool consolidates_ = false;

@@ -45,8 +45,9 @@ template <int Dim> RunMetadata metadata_of(const Scene<Dim>& scene) {
   return m;
 }
 
+/// Whether the face holds a component (a platen holds none: its load is the reaction).
 inline bool face_constrained(const BoundarySpec& bc, int face) {
-  return bc[face] != FaceCondition::Free;
+  return bc[face] == FaceCondition::Fixed || bc[face] == FaceCondition::Roller;
 }
 
 /// The components of a vector column: x, y (and z in 3D).

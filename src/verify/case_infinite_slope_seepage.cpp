@@ -14,8 +14,8 @@
 // small and the points in the cells shared with the stiff rock are held by it).
 // Measured at D/8, D/16, D/32: u 4.2 %, 2.1 %, 1.10 % (orders 0.99, 0.96: the drained surface
 // nodes sit up to a cell off the surface and take the table's hydrostatic value);
-// sigma' 10.1 %, 4.3 %, 2.1 % (1.25, 1.00); tau 6.2 %, 2.7 %, 1.4 % (1.18, 0.99: the points'
-// stress is constant in a cell); F at c' = 2 kPa, phi' = 35 deg 3.6 %, 1.3 %, 0.66 %. Broken on
+// sigma' 10.6 %, 4.8 %, 2.4 % (1.15, 0.99); tau 6.2 %, 2.7 %, 1.4 % (1.17, 0.99: the points'
+// stress is constant in a cell); F at c' = 2 kPa, phi' = 35 deg 3.8 %, 1.7 %, 0.83 %. Broken on
 // purpose: the same layer with the table's hydrostatic pore pressure instead of the flow (no
 // permeability) is 25 % off in u and fails.
 #include "cases.hpp"
@@ -200,12 +200,12 @@ VerificationCase infinite_slope_seepage() {
         full ? 0.025 : 0.05,
         "2.3x the measured (2.1 % at D/16, 1.1 % at D/32); the hydrostatic table is 25 % off"));
     checks.push_back(at_most_check(fmt::format("L2 of sigma'_n, D/{}", n), fine.effective_normal,
-                                   full ? 0.05 : 0.1, "2.3x the measured (4.3 %, 2.1 %)"));
+                                   full ? 0.05 : 0.1, "2.1x the measured (4.8 %, 2.4 %)"));
     checks.push_back(at_most_check(fmt::format("L2 of tau, D/{}", n), fine.shear,
                                    full ? 0.03 : 0.06, "2.2x the measured (2.7 %, 1.4 %)"));
     checks.push_back(at_most_check(fmt::format("L2 of F (c' = 2 kPa, phi' = 35 deg), D/{}", n),
-                                   fine.factor, full ? 0.015 : 0.03,
-                                   "2.3x the measured (1.3 %, 0.66 %)"));
+                                   fine.factor, full ? 0.02 : 0.04,
+                                   "2.4x the measured (1.7 %, 0.83 %)"));
     for (std::size_t i = 1; i < errors.size(); ++i) {
       const std::string grids = fmt::format("D/{} to D/{}", divisions[i - 1], divisions[i]);
       checks.push_back(within_check(
@@ -215,10 +215,10 @@ VerificationCase infinite_slope_seepage() {
       checks.push_back(
           within_check("observed order of sigma'_n, " + grids,
                        observed_order(errors[i - 1].effective_normal, errors[i].effective_normal),
-                       0.8, 1.5, "first, as the dry self-weight column's stress (1.25, 1.00)"));
+                       0.8, 1.5, "first, as the dry self-weight column's stress (1.15, 0.99)"));
       checks.push_back(within_check("observed order of tau, " + grids,
                                     observed_order(errors[i - 1].shear, errors[i].shear), 0.8, 1.5,
-                                    "first (1.18, 0.99)"));
+                                    "first (1.17, 0.99)"));
     }
     return checks;
   };

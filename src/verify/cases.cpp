@@ -17,6 +17,17 @@ Mat3 final_point_stress(const VerificationContext& ctx, const std::string& run,
   return sigma;
 }
 
+PoreFrame read_pore_frame(const ResultsReader& results, Index frame) {
+  Index rows = 0, dims = 0, cols = 0;
+  PoreFrame f;
+  f.x0 = results.read(frame, "reference_position", &rows, &dims);
+  f.x = results.read(frame, "position", &rows, &dims);
+  f.volume = results.read(frame, "volume", &rows, &cols);
+  f.p = results.read(frame, "pore_pressure", &rows, &cols);
+  f.dims = static_cast<std::size_t>(dims);
+  return f;
+}
+
 RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int threads) {
   RunOptions options;
   options.out_dir = dir;

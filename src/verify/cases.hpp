@@ -28,6 +28,7 @@ VerificationCase self_weight_column_3d();
 VerificationCase submerged_column();
 VerificationCase terzaghi();
 VerificationCase infinite_slope_seepage();
+VerificationCase mandel();
 VerificationCase column_large_compression();
 VerificationCase single_element();
 VerificationCase single_element_3d();
@@ -64,6 +65,14 @@ RunResult run_quiet(const CaseSpec& spec, const std::filesystem::path& dir, int 
 /// found.
 FosRunResult bracketed_search(const VerificationContext& ctx, const CaseSpec& spec,
                               const std::string& name);
+
+/// A frame's points as the consolidation cases read them: reference and current positions
+/// (`dims` per point), volumes and pore pressures.
+struct PoreFrame {
+  std::vector<double> x0, x, volume, p;
+  std::size_t dims = 0;
+};
+PoreFrame read_pore_frame(const ResultsReader& results, Index frame);
 
 /// Runs the case's scene with `overrides` into ctx.out_dir / run and returns the Cauchy stress
 /// of its first point in the last frame (the single-element cases, whose points all agree).

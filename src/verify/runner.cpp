@@ -42,6 +42,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::submerged_column(),
                                                       verify_cases::terzaghi(),
                                                       verify_cases::infinite_slope_seepage(),
+                                                      verify_cases::mandel(),
                                                       verify_cases::column_large_compression(),
                                                       verify_cases::grashof(),
                                                       verify_cases::strip_footing(),

@@ -224,6 +224,14 @@ TEST_F(MpiImplicit, RefusesWhatItCannotDistribute) {
   EXPECT_EQ(adapt.exit_code, 2) << adapt.describe();
   EXPECT_NE(adapt.err.find("talus adapt does not run under mpirun"), std::string::npos)
       << adapt.describe();
+  // A platen's shared unknown would span the ranks.
+  const fs::path mandel = fs::path(TALUS_SOURCE_DIR) / "verification" / "mandel.yaml";
+  const Outcome platen = mpirun(2, {"run", mandel.string(), "--out", "platen"});
+  EXPECT_EQ(platen.exit_code, 2) << platen.describe();
+  EXPECT_NE(platen.err.find("a platen (boundaries.y_max) does not run distributed yet"),
+            std::string::npos)
+      << platen.describe();
+  EXPECT_FALSE(fs::exists(work() / "platen"));
 }
 
 } // namespace

@@ -267,7 +267,7 @@ TEST(CaseReaderErrors, UnknownEnumValueListsAllowedValues) {
                 "unknown value 'msul' (allowed: usl, usf, musl); did you mean 'musl'?"});
   expect_error(with(kCase, "x_min: fixed", "x_min: clamped"),
                {"case.yaml", 39, 10, "boundaries.x_min",
-                "unknown value 'clamped' (allowed: free, fixed, roller)"});
+                "unknown value 'clamped' (allowed: free, fixed, roller, platen)"});
   expect_error(with(kCase, "shape: rectangle", "shape: square"),
                {"case.yaml", 28, 12, "bodies[1].shape",
                 "unknown value 'square' (allowed: rectangle, disc, polygon)"});

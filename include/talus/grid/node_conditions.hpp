@@ -2,8 +2,8 @@
 // What the case's boundaries impose on a grid node, decided from the node's lattice coordinates
 // or position when a step asks, so that nothing is stored per node of the whole grid:
 //   - the grid faces' conditions (which velocity components are held, and which face receives
-//     each held component's reaction), with the axis of an axisymmetric run holding the radial
-//     component whatever x_min says;
+//     each held component's reaction, and which platen moves a component), with the axis of an
+//     axisymmetric run holding the radial component whatever x_min says;
 //   - the prescribed-displacement boxes, which follow their displacement in whole cells.
 #include "talus/grid/grid.hpp"
 #include "talus/spec/case_spec.hpp"
@@ -27,6 +27,7 @@ public:
     for (int face = 0; face < face_count(Dim); ++face)
       if (on_face(ijk, face))
         mask |= mask_of(faces_[face], face_axis(face));
+    mask &= static_cast<std::uint8_t>(~platen_mask(ijk));
     // Axisymmetry: a node on the axis (or behind it) moves along it only.
     if (axisymmetric_ && grid_.node_position(ijk)[0] <= 1e-9 * grid_.cell_size())
       mask |= 1u;
@@ -45,13 +46,32 @@ public:
       const int axis = face_axis(face);
       const std::uint8_t mask = mask_of(faces_[face], axis);
       for (int d = 0; d < Dim; ++d)
-        if ((mask & (1u << d)) && (owner[d] < 0 || d == axis))
+        if ((mask & (1u << d)) && !(platen_mask(ijk) & (1u << d)) && (owner[d] < 0 || d == axis))
           owner[d] = static_cast<std::int8_t>(face);
     }
     return owner;
   }
 
+  /// The platen face that moves velocity component d of the node (the platen normal to axis d
+  /// that the node lies on), or -1.
+  int platen(const std::array<Index, Dim>& ijk, int d) const {
+    for (const int face : {2 * d, 2 * d + 1})
+      if (faces_[face] == FaceCondition::Platen && on_face(ijk, face))
+        return face;
+    return -1;
+  }
+
 private:
+  // The components a platen moves: at a platen's edge it wins over the face beside it (a
+  // fixed side face would otherwise pin the platen's corner node).
+  std::uint8_t platen_mask(const std::array<Index, Dim>& ijk) const {
+    std::uint8_t mask = 0;
+    for (int d = 0; d < Dim; ++d)
+      if (platen(ijk, d) >= 0)
+        mask |= static_cast<std::uint8_t>(1u << d);
+    return mask;
+  }
+
   // The boundary node and the ghost node behind it (inside the wall) share the condition.
   bool on_face(const std::array<Index, Dim>& ijk, int face) const {
     const int axis = face_axis(face);
@@ -60,6 +80,7 @@ private:
   static std::uint8_t mask_of(FaceCondition c, int normal_axis) {
     switch (c) {
     case FaceCondition::Free:
+    case FaceCondition::Platen: // moves with the platen's own unknown
       return 0;
     case FaceCondition::Fixed:
       return static_cast<std::uint8_t>((1u << Dim) - 1);

@@ -19,6 +19,10 @@
 
 namespace talus {
 
+/// K with entry (i, j) moved to (to[i], to[j]) of a size x size matrix, entries that meet
+/// summed (a share's matrix onto global ids, shared unknowns onto their reduced one).
+SparseMatrix remapped(const SparseMatrix& K, std::span<const Index> to, Index size);
+
 class DofMap {
 public:
   /// local_dof() of a component without an unknown (held, prescribed or massless node).

@@ -76,7 +76,9 @@ struct ResidualStrengthSpec {
 /// rectangle (2D) / box (3D): min, max; disc / sphere: centre, radius; polygon (2D) / prism
 /// (3D: the polygon in x-y extruded from z_min to z_max); cylinder (3D): axis ends, radius.
 enum class BodyShape { Rectangle, Disc, Polygon, Cylinder };
-enum class FaceCondition { Free, Fixed, Roller };
+/// Platen: a rigid, frictionless plate on the face; the face's nodes share one normal
+/// displacement, which the loads on them push (docs/case-format.md, boundaries).
+enum class FaceCondition { Free, Fixed, Roller, Platen };
 
 /// The faces of the grid (and of a box body, for tractions), in the order of the axes: face
 /// 2 d is the lower one along axis d, 2 d + 1 the upper one. A 2D case has the first four.
