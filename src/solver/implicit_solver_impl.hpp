@@ -184,12 +184,12 @@ public:
 
   // This rank's points on the unknowns it sees, then the ranks' shares added on the owners.
   bool residual(const Eigen::VectorXd& du, Eigen::VectorXd& r) override {
-    Eigen::VectorXd mine, owned;
+    Eigen::VectorXd mine;
     const bool admissible = !comm_->any(!assemble_share(
         whole_, whole_map_, overlap_increment(step_.shared.expand(du)), &mine, nullptr));
     if (admissible) {
-      linear_->export_add(mine, owned);
-      r = step_.shared.condense(owned);
+      linear_->export_add(mine, r);
+      step_.shared.condense(r);
     }
     return admissible;
   }
@@ -353,7 +353,8 @@ private:
   /// Newton used last: its tangent is within the convergence tolerance of the converged state's.
   double compliance_under_load() {
     const AddSeconds timer(timings_.solve);
-    const Eigen::VectorXd f = step_.shared.condense(step_.external.head(step_.owned_dof_count));
+    Eigen::VectorXd f = step_.external.head(step_.owned_dof_count);
+    step_.shared.condense(f);
     Eigen::VectorXd z;
     try {
       linear_->solve(f, z);

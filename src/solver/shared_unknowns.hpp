@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <utility>
 #include <vector>
 
 namespace talus {
@@ -55,8 +56,6 @@ public:
   bool any() const { return shared_; }
   /// The reduced unknowns (the step's when nothing is shared).
   Index size() const { return shared_ ? count_ : static_cast<Index>(group_.size()); }
-  /// The reduced unknown of a step unknown.
-  Index reduced(Index unknown) const { return shared_ ? reduced_[at(unknown)] : unknown; }
   /// A step unknown of reduced unknown r (its first).
   Index first_of(Index r) const {
     if (!shared_)
@@ -78,23 +77,23 @@ public:
     return out;
   }
 
-  /// x = T x_r.
-  Eigen::VectorXd expand(const Eigen::VectorXd& x_r) const {
+  /// x = T x_r (x_r itself when nothing is shared; otherwise valid until the next call).
+  const Eigen::VectorXd& expand(const Eigen::VectorXd& x_r) {
     if (!shared_)
       return x_r;
-    Eigen::VectorXd x(static_cast<Eigen::Index>(reduced_.size()));
+    expanded_.resize(static_cast<Eigen::Index>(reduced_.size()));
     for (std::size_t i = 0; i < reduced_.size(); ++i)
-      x[static_cast<Eigen::Index>(i)] = x_r[reduced_[i]];
-    return x;
+      expanded_[static_cast<Eigen::Index>(i)] = x_r[reduced_[i]];
+    return expanded_;
   }
-  /// T^T r.
-  Eigen::VectorXd condense(const Eigen::VectorXd& r) const {
+  /// r <- T^T r, in place (untouched when nothing is shared).
+  void condense(Eigen::VectorXd& r) const {
     if (!shared_)
-      return r;
+      return;
     Eigen::VectorXd r_r = Eigen::VectorXd::Zero(count_);
     for (std::size_t i = 0; i < reduced_.size(); ++i)
       r_r[reduced_[i]] += r[static_cast<Eigen::Index>(i)];
-    return r_r;
+    r = std::move(r_r);
   }
   /// T^T K T (K itself when nothing is shared; otherwise valid until the next call).
   const SparseMatrix& condense(const SparseMatrix& K) {
@@ -109,6 +108,7 @@ private:
   std::vector<Index> reduced_; ///< per step unknown: its reduced unknown (with sharing)
   Index count_ = 0;
   bool shared_ = false;
+  Eigen::VectorXd expanded_;
   SparseMatrix condensed_;
 };
 

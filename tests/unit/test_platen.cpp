@@ -1,8 +1,11 @@
 // A platen face (boundaries: platen): a rigid, frictionless plate whose nodes share one normal
 // displacement, pushed by the loads on them.
+#include "../../src/solver/shared_unknowns.hpp"
 #include "implicit_test_support.hpp"
 
 #include "talus/scene/scene.hpp"
+
+#include <Eigen/Dense>
 
 namespace {
 
@@ -43,6 +46,35 @@ std::vector<double> vertical_strains(const ResultsReader& r) {
     strain.push_back((x[y] - x0[y]) / x0[y]);
   }
   return strain;
+}
+
+// The reduction against dense algebra: five unknowns, 1 and 3 tied into one group, 2 and 4 into
+// another; T^T K T, T^T r and T x_r as matrices.
+TEST(SharedUnknowns, ReducesAsTheDenseTransformation) {
+  talus::SharedUnknowns shared;
+  shared.reset(5);
+  shared.share(1, 7);
+  shared.share(3, 7);
+  shared.share(2, 4);
+  shared.share(4, 4);
+  EXPECT_TRUE(shared.finish());
+  EXPECT_FALSE(shared.finish()); // the same numbering again
+  ASSERT_EQ(shared.size(), 3);
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(5, 3); // reduced: 0 -> {0}, 1 -> {1, 3}, 2 -> {2, 4}
+  for (const auto& [row, col] :
+       std::vector<std::pair<int, int>>{{0, 0}, {1, 1}, {3, 1}, {2, 2}, {4, 2}})
+    T(row, col) = 1;
+  const Eigen::MatrixXd K = Eigen::MatrixXd::Random(5, 5);
+  const talus::SparseMatrix Ks = K.sparseView();
+  EXPECT_LT((Eigen::MatrixXd(shared.condense(Ks)) - T.transpose() * K * T).norm(), 1e-14);
+  const Eigen::VectorXd r = Eigen::VectorXd::Random(5);
+  Eigen::VectorXd r_r = r;
+  shared.condense(r_r);
+  EXPECT_LT((r_r - T.transpose() * r).norm(), 1e-14);
+  const Eigen::VectorXd x_r = Eigen::VectorXd::Random(3);
+  EXPECT_EQ((shared.expand(x_r) - T * x_r).norm(), 0.0);
+  EXPECT_EQ(shared.first_of(1), 1);
+  EXPECT_EQ(shared.first_of(2), 2);
 }
 
 TEST_F(Implicit, PlatenSqueezesSideBySideColumnsByOneStrain) {
