@@ -202,11 +202,7 @@ public:
 
   /// dG/d(dF) of point s at its trial state (step_tangent.hpp); with F-bar at fixed J_bar.
   StepTangent<Dim, Axisymmetric> point_step_tangent(std::size_t s) {
-    const Mat3& Fn = scene_.particles.F[s];
-    const StressTangent r = total_response(s);
-    if (!f_bar_)
-      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, r);
-    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, r);
+    return consolidates_ ? step_tangent_of(s, total_response(s)) : step_tangent_of(s, response_[s]);
   }
 
   /// The 3x3 trial step gradient of point s: its Dim x Dim block, and the hoop stretch.
@@ -254,11 +250,18 @@ public:
   FBarStep<Dim, Axisymmetric>* f_bar() { return f_bar_ ? &f_bar_step_ : nullptr; }
 
 private:
-  /// balanced_kirchhoff(s) with its derivative: d(J I)_ij / dF_kl = J F^-1_lk delta_ij.
+  /// dG/d(dF) of point s for the stress and tangent r.
+  StepTangent<Dim, Axisymmetric> step_tangent_of(std::size_t s, const StressTangent& r) {
+    const Mat3& Fn = scene_.particles.F[s];
+    if (!f_bar_)
+      return step_tangent<Dim, Axisymmetric>(step_gradient(s), Fn, r);
+    return f_bar_step_.step_tangent_of(static_cast<Index>(s), step_gradient(s), Fn, r);
+  }
+
+  /// balanced_kirchhoff(s) with its derivative (consolidation): d(J I)_ij / dF_kl =
+  /// J F^-1_lk delta_ij.
   StressTangent total_response(std::size_t s) const {
     StressTangent r = response_[s];
-    if (!consolidates_)
-      return r;
     const double J = F_[s].determinant();
     const Mat3 inv = F_[s].inverse();
     r.kirchhoff.diagonal().array() -= excess_[s] * J;
