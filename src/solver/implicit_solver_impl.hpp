@@ -64,13 +64,6 @@ public:
     round_off_force_ = std::numeric_limits<double>::epsilon() * modulus * scene.grid.cell_size();
     const bool symmetric = symmetric_implicit_tangent(scene.spec);
     comm_ = &scene.decomposition->comm();
-    if (comm_->size() > 1)
-      for (int f = 0; f < face_count(Dim); ++f)
-        if (scene.spec.boundaries[f] == FaceCondition::Platen)
-          throw InputError({"mpirun", 0, 0, ""},
-                           fmt::format("a platen (boundaries.{}) does not run distributed yet; "
-                                       "run it without mpirun",
-                                       face_name(f)));
     LinearSolverOptions options;
     options.kind = serial_linear_solver_kind(symmetric);
     linear_ = make_rank_linear_solver(options, symmetric, comm_->size(), comm_->mpi());

@@ -168,11 +168,11 @@ private:
   // A platen's nodes share its normal displacement: one group per platen face.
   void share_platens(const Scene<Dim>& scene) {
     shared.reset(owned_dof_count);
-    for (Index n = 0; n < map.node_count(); ++n)
+    for (Index n = 0; n < map.node_count() && scene.face_conditions.has_platen(); ++n)
       for (int a = 0; a < Dim; ++a)
         if (const Index dof = displacement_dof(n, a); dof >= 0)
           if (const int face = scene.face_conditions.platen(map.nodes().ijk(n), a); face >= 0) {
-            if (dof >= owned_dof_count) // the solver refuses a platen over several ranks
+            if (dof >= owned_dof_count) // a run refuses a platen over several ranks at start
               throw std::logic_error("a platen's unknown on a node another rank owns");
             shared.share(dof, face);
           }

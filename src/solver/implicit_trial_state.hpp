@@ -57,13 +57,20 @@ public:
     if (f_bar_)
       f_bar_step_.prepare(scene_.grid, scene_.particles, map.node_count());
     const PoreWater& water = scene_.water;
-    if (consolidates_) { // the points' own pressure, set with each trial increment
-      const auto np = scene_.particles.x.size();
+    if (consolidates_) { // the points' own pressure, set with each trial increment; the table's
+      const auto& P = scene_.particles;
+      const auto np = P.x.size();
       pore_pressure_.resize(np);
       excess_.resize(np);
+      table_pressure_.resize(np);
       water_force_.resize(np);
       pressure_increment_.resize(np);
       pressure_gradient_.resize(np);
+      for (std::size_t s = 0; s < np; ++s) {
+        const double alpha = scene_.spec.materials[at(P.material[s])].flow->biot_coefficient;
+        table_pressure_[s] = water.pore_pressure<Dim>(P.x[s]);
+        water_force_[s] = alpha * P.volume[s] * water.pressure_gradient<Dim>(P.x[s]);
+      }
     } else if (water.any()) {
       const auto& P = scene_.particles;
       pore_pressure_.resize(P.x.size());
@@ -158,8 +165,7 @@ public:
       pressure_increment_[s] = increment;
       pressure_gradient_[s] = gradient;
       pore_pressure_[s] = P.pore_pressure[s] + increment;
-      excess_[s] = alpha * (pore_pressure_[s] - scene_.water.template pore_pressure<Dim>(P.x[s]));
-      water_force_[s] = alpha * P.volume[s] * scene_.water.template pressure_gradient<Dim>(P.x[s]);
+      excess_[s] = alpha * (pore_pressure_[s] - table_pressure_[s]);
     });
   }
 
@@ -264,7 +270,7 @@ private:
     StressTangent r = response_[s];
     const double J = F_[s].determinant();
     const Mat3 inv = F_[s].inverse();
-    r.kirchhoff.diagonal().array() -= excess_[s] * J;
+    r.kirchhoff = balanced_kirchhoff(s);
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k)
         for (int l = 0; l < 3; ++l)
@@ -283,6 +289,7 @@ private:
   std::vector<double> pore_pressure_;      ///< per point: u in this step (with water only)
   std::vector<V> water_force_;             ///< per point: V_n grad u in this step (with water only)
   std::vector<double> excess_;             ///< per point: alpha (p - u) (consolidation only)
+  std::vector<double> table_pressure_;     ///< per point: u in this step (consolidation only)
   std::vector<double> pressure_increment_; ///< per point: dp (consolidation only)
   std::vector<V> pressure_gradient_;       ///< per point: grad p at the step's end (consolidation)
   bool consolidates_ = false;

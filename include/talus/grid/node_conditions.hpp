@@ -19,7 +19,13 @@ template <int Dim> class FaceConditions {
 public:
   FaceConditions() = default;
   FaceConditions(const Grid<Dim>& grid, const BoundarySpec& faces, bool axisymmetric)
-      : grid_(grid), faces_(faces), axisymmetric_(axisymmetric) {}
+      : grid_(grid), faces_(faces), axisymmetric_(axisymmetric) {
+    for (int face = 0; face < face_count(Dim); ++face)
+      has_platen_ = has_platen_ || faces_[face] == FaceCondition::Platen;
+  }
+
+  /// Whether any face is a platen.
+  bool has_platen() const { return has_platen_; }
 
   /// Bit d set: velocity component d of the node is held at zero (fixed or roller face).
   std::uint8_t held(const std::array<Index, Dim>& ijk) const {
@@ -40,13 +46,14 @@ public:
   std::array<std::int8_t, Dim> reaction_faces(const std::array<Index, Dim>& ijk) const {
     std::array<std::int8_t, Dim> owner;
     owner.fill(-1);
+    const std::uint8_t moved = platen_mask(ijk);
     for (int face = 0; face < face_count(Dim); ++face) {
       if (!on_face(ijk, face))
         continue;
       const int axis = face_axis(face);
       const std::uint8_t mask = mask_of(faces_[face], axis);
       for (int d = 0; d < Dim; ++d)
-        if ((mask & (1u << d)) && !(platen_mask(ijk) & (1u << d)) && (owner[d] < 0 || d == axis))
+        if ((mask & (1u << d)) && !(moved & (1u << d)) && (owner[d] < 0 || d == axis))
           owner[d] = static_cast<std::int8_t>(face);
     }
     return owner;
@@ -55,6 +62,8 @@ public:
   /// The platen face that moves velocity component d of the node (the platen normal to axis d
   /// that the node lies on), or -1.
   int platen(const std::array<Index, Dim>& ijk, int d) const {
+    if (!has_platen_)
+      return -1;
     for (const int face : {2 * d, 2 * d + 1})
       if (faces_[face] == FaceCondition::Platen && on_face(ijk, face))
         return face;
@@ -93,6 +102,7 @@ private:
   Grid<Dim> grid_;
   BoundarySpec faces_;
   bool axisymmetric_ = false;
+  bool has_platen_ = false;
 };
 
 /// The prescribed-displacement boxes where they stand: each PrescribedSpec's box shifted by
