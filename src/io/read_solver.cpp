@@ -257,17 +257,59 @@ SolverSpec Validator::solver(const Item& it, const CaseSpec& spec) const {
   return s;
 }
 
+std::vector<std::size_t> Validator::stages_searched(const Map& m, StrengthReductionMode mode,
+                                                    const CaseSpec& spec) const {
+  // The history runs once, at the case's strength; each search reduces it from a stage's end.
+  if (mode != StrengthReductionMode::Incremental)
+    fail(m.has("mode") ? m["mode"] : m.self(),
+         "a staged case is searched from the state each stage leaves, in one run per stage: "
+         "give 'mode: incremental'");
+  for (const StageSpec& stage : spec.stages) {
+    if (stage.analysis != AnalysisType::ImplicitQuasistatic)
+      fail(m.self(), fmt::format("stage '{}' is not implicit_quasistatic: the search follows a "
+                                 "quasi-static history",
+                                 stage.name));
+    if (stage.strength_factor)
+      fail(m.self(), fmt::format("stage '{}' sets a strength_factor: the search sets the "
+                                 "strength itself",
+                                 stage.name));
+  }
+  std::vector<std::size_t> after;
+  if (!m.has("after")) {
+    for (std::size_t k = 0; k < spec.stages.size(); ++k)
+      after.push_back(k);
+    return after;
+  }
+  for (const Item& item : list(m["after"])) {
+    const std::string stage = name(item);
+    const auto found = std::find_if(spec.stages.begin(), spec.stages.end(),
+                                    [&](const StageSpec& st) { return st.name == stage; });
+    if (found == spec.stages.end())
+      fail(item, "no stage named '" + shown(stage) + "'");
+    const auto k = static_cast<std::size_t>(found - spec.stages.begin());
+    if (!after.empty() && k <= after.back())
+      fail(item, "stages are listed in the order they run, each once");
+    after.push_back(k);
+  }
+  if (after.empty())
+    fail(m["after"], "lists no stage");
+  return after;
+}
+
 StrengthReductionSpec Validator::strength_reduction(const Item& it, CaseSpec& spec) const {
   const Map m(*this, it,
               {"lower", "upper", "tolerance", "max_trials", "probe", "min_stiffness",
-               "displacement_limit", "mode", "min_step", "flow_rule"});
+               "displacement_limit", "mode", "min_step", "flow_rule", "after"});
   StrengthReductionSpec s;
   s.where = locate(m.self());
+  if (m.has("mode"))
+    s.mode = choice(m["mode"], strength_reduction_mode_choices());
+  if (!spec.stages.empty())
+    s.after_stages = stages_searched(m, s.mode, spec);
+  else if (m.has("after"))
+    fail(m["after"], "'after' names stages of a staged case; this case has no 'stages'");
   // Each trial is a quasi-static loading whose failure is Newton's; the other analyses have
   // no such criterion.
-  if (!spec.stages.empty())
-    fail(m.self(), "strength reduction runs its own quasi-static trials from scratch; it cannot "
-                   "be combined with 'stages'");
   if (spec.analysis != AnalysisType::ImplicitQuasistatic)
     fail(m.self(), "strength reduction loads the case quasi-statically; it needs 'analysis: "
                    "implicit_quasistatic'");
@@ -306,8 +348,6 @@ StrengthReductionSpec Validator::strength_reduction(const Item& it, CaseSpec& sp
   }
   if (m.has("displacement_limit"))
     s.displacement_limit = positive(m["displacement_limit"]);
-  if (m.has("mode"))
-    s.mode = choice(m["mode"], strength_reduction_mode_choices());
   if (m.has("flow_rule"))
     spec.strength_flow_rule = choice(m["flow_rule"], strength_reduction_flow_choices());
   if (m.has("min_step")) {

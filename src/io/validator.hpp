@@ -372,6 +372,9 @@ private:
   SolverSpec solver(const Item& it, const CaseSpec& spec) const;
   /// The strength_reduction section; its flow_rule goes to spec.strength_flow_rule.
   StrengthReductionSpec strength_reduction(const Item& it, CaseSpec& spec) const;
+  /// A staged case's strength_reduction: the stages its `after` names (all by default).
+  std::vector<std::size_t> stages_searched(const Map& m, StrengthReductionMode mode,
+                                           const CaseSpec& spec) const;
   void plastic_parameters(const Map& m, const Item& model_item, MaterialSpec& s) const;
   static std::vector<std::string> solver_keys();
   BodySpec::Placement placement(const Item& it) const;

@@ -206,6 +206,7 @@ Run<Dim>::Run(const CaseSpec& spec, const RunOptions& options)
 
   state_.stop_after_step = options.stop_after_step;
   state_.measure_stiffness = options.measure_stiffness;
+  state_.measure_stiffness_from_stage = options.measure_stiffness_from_stage;
   if (options.measure_stiffness)
     recorder_->current_stiffness = &state_.current_stiffness;
   result_.status = "completed";

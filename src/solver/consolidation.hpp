@@ -42,9 +42,13 @@ struct PoreFlow {
 
 template <int Dim> struct Consolidation {
   std::vector<PoreFlow> flow; ///< per material
-  /// gamma_w g / |g| with a water table (hydrostatic p does not flow), else zero.
+  /// gamma_w g / |g| with a water table (hydrostatic p does not flow), else zero; of this step:
+  /// the share of the weight it has reached (a first stage whose weight grows from zero grows
+  /// the water's with it, as it grows the table's pressure).
   Vec<Dim> gravity_head = Vec<Dim>::Zero();
+  Vec<Dim> full_gravity_head = Vec<Dim>::Zero(); ///< at the full weight
   double pressure_unit = 1; ///< s: Pa per unit of the pressure unknown, set per step
+  double flow_time = 0;     ///< s, how long the water flows in the step: dt, 0 if undrained
   double stiffest = 0;      ///< the largest constrained modulus M_c of the materials
   double mobility = 0;      ///< the largest k / gamma_w
 
@@ -54,6 +58,9 @@ template <int Dim> struct Consolidation {
     if (dt > 0 && mobility > 0)
       pressure_unit = std::min(pressure_unit, std::sqrt(stiffest / (dt * mobility)));
   }
+
+  /// The weight's share at the step's end.
+  void set_gravity_share(double share) { gravity_head = share * full_gravity_head; }
 
   /// Per material: the pressure projection's tau.
   std::vector<double> projection() const {
@@ -79,7 +86,7 @@ template <int Dim> struct Consolidation {
     }
     const double g = spec.gravity.norm();
     if (!spec.water->phreatic.empty() && g > 0)
-      c.gravity_head = spec.water->unit_weight / g * head<Dim>(spec.gravity);
+      c.full_gravity_head = c.gravity_head = spec.water->unit_weight / g * head<Dim>(spec.gravity);
     c.set_pressure_unit(0, h);
     return c;
   }

@@ -63,7 +63,7 @@ public:
         dF,
         c.flow[at(trial_.material(s))],
         trial_.volume_n(s),
-        dt_,
+        c.flow_time,
         c.pressure_unit,
         trial_.pressure_increment(s),
         trial_.pressure_gradient(s),

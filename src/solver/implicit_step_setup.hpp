@@ -114,7 +114,9 @@ template <int Dim, class Shape, bool Axisymmetric> struct ImplicitStepSetup {
       node.owner[at(n)] = halo.owner(n);
     }
     if (consolidation) {
-      consolidation->set_pressure_unit(l.dt, scene.grid.cell_size());
+      consolidation->flow_time = scene.water.undrained() ? 0.0 : l.dt;
+      consolidation->set_pressure_unit(consolidation->flow_time, scene.grid.cell_size());
+      consolidation->set_gravity_share(l.gravity_ramped ? l.lambda_end : 1.0);
       prepare_pore_pressure(scene);
     }
     number_unknowns(scene, l, heaviest);

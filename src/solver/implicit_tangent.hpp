@@ -214,7 +214,7 @@ private:
             step.trial.step_gradient(s),
             c.flow[at(step.trial.material(s))],
             step.trial.volume_n(s),
-            step.dt,
+            c.flow_time,
             c.pressure_unit,
             step.trial.pressure_increment(s),
             step.trial.pressure_gradient(s),

@@ -31,6 +31,7 @@ namespace {
 /// The factor F along the run's time: the loading stage holds `lower`; ramp j (from 1) spans
 /// [load_end + j - 1, load_end + j] and moves F from factors[j - 1] to factors[j].
 struct FactorPath {
+  std::size_t history_stages = 0; ///< the loading's stages (one unless the case is staged)
   double load_end = 0;
   std::vector<double> factors; ///< factors[0] = lower, then each ramp's end
   std::vector<double> min_dt;  ///< per ramp (index j - 1)
@@ -52,19 +53,25 @@ struct FactorPath {
   }
 };
 
-/// The staged case: the loading at F = lower, then ramps to upper, 1.5 upper, ... (as many as
-/// the trials search would try), each in steps moving F by at most `tolerance`.
+/// The staged case: the loading at F = lower (a staged case's stages, its history), then ramps
+/// to upper, 1.5 upper, ... (as many as the trials search would try), each in steps moving F
+/// by at most `tolerance`. In consolidation the ramps are undrained: the water does not flow
+/// during a pseudo-time, it carries the volume change of a failure faster than it drains.
 CaseSpec staged_case(const CaseSpec& spec, FactorPath& path) {
   const StrengthReductionSpec& settings = *spec.strength_reduction;
   CaseSpec staged = spec;
   staged.strength_reduction.reset();
-  StageSpec load;
-  load.name = "load";
-  load.analysis = AnalysisType::ImplicitQuasistatic;
-  load.time = spec.time;
-  load.strength_factor = settings.lower;
-  staged.stages.push_back(load);
-  path.load_end = spec.time.end_time;
+  if (spec.stages.empty()) {
+    StageSpec load;
+    load.name = "load";
+    load.analysis = AnalysisType::ImplicitQuasistatic;
+    load.time = spec.time;
+    staged.stages.push_back(load);
+  }
+  staged.stages.front().strength_factor = settings.lower;
+  path.history_stages = staged.stages.size();
+  for (const StageSpec& stage : staged.stages)
+    path.load_end += stage.time.end_time;
   path.factors = {settings.lower};
   double factor = settings.upper;
   for (int j = 1; j < settings.max_trials; ++j, factor *= 1.5) {
@@ -82,6 +89,7 @@ CaseSpec staged_case(const CaseSpec& spec, FactorPath& path) {
     ramp.time.dt = std::min(dt, 1.0);
     ramp.time.min_dt = std::min(*ramp.time.dt, settings.smallest_step() / span);
     ramp.time.max_steps = static_cast<Index>(8.0 / *ramp.time.min_dt);
+    ramp.undrained = spec.consolidates();
     staged.stages.push_back(ramp);
     path.factors.push_back(factor);
     path.min_dt.push_back(*ramp.time.min_dt);
@@ -101,6 +109,10 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
   options.threads = search.threads;
   options.progress = true; // one long run: the user sees it advance
   options.measure_stiffness = true;
+  // After a history or a consolidation the reduction's own first step is the reference: the
+  // loading's u-p tangent (drained or not by its time step) is another stiffness.
+  if (!spec.stages.empty() || spec.consolidates())
+    options.measure_stiffness_from_stage = path.history_stages;
   options.stop_after_step = failure_watch(
       settings, [&path](double time) { return fmt::format("at F = {:.6g}", path.at(time)); });
   FactorOfSafety fos;
@@ -139,8 +151,10 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const fs::path
     step.reason = fmt::format("stood: current stiffness {:.3g}, crest moved {:.4g} m",
                               step.current_stiffness, step.crest_displacement());
     fos.trials.push_back(step);
-    stiffness_path.control.push_back(step.factor);
-    stiffness_path.stiffness.push_back(step.current_stiffness);
+    if (std::isfinite(step.current_stiffness)) { // not measured in a history
+      stiffness_path.control.push_back(step.factor);
+      stiffness_path.stiffness.push_back(step.current_stiffness);
+    }
   }
   const auto stat = [&](const char* key) {
     const auto it = run.extra.find(key);

@@ -47,7 +47,8 @@ struct LoopState : LoopCounters {
   /// RunOptions::stop_after_step, and what it said when it ended the run.
   std::function<std::optional<std::string>(const StepState&)> stop_after_step{};
   std::optional<std::string> stopped{};
-  bool measure_stiffness = false; ///< RunOptions::measure_stiffness
+  bool measure_stiffness = false;               ///< RunOptions::measure_stiffness
+  std::size_t measure_stiffness_from_stage = 0; ///< RunOptions::measure_stiffness_from_stage
   // --- checkpoints ---
   /// Called after each completed step and when an interrupt is noticed: writes a checkpoint
   /// when one is due (the Run decides).
@@ -81,12 +82,14 @@ template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double t
 }
 
 /// The current stiffness after a converged quasi-static step whose compliance under its load
-/// is `compliance` (NaN: not measured, the last value stands); the first one measured is the
-/// reference (Bergan, Horrigmoe, Krakeland & Soreide 1978).
+/// is `compliance` (NaN: not measured, the last value stands), against the stiffest step
+/// measured so far (Bergan, Horrigmoe, Krakeland & Soreide 1978 take the first, the stiffest of
+/// a loading; a reduction that starts from a loaded state may take its first step softer, as it
+/// settles the imbalance the points' new places on the grid leave at a stage's start).
 inline void note_compliance(LoopState& s, double compliance) {
   if (!std::isfinite(compliance) || compliance <= 0)
     return;
-  if (!std::isfinite(s.reference_compliance))
+  if (!(compliance >= s.reference_compliance)) // also the first: the reference is NaN
     s.reference_compliance = compliance;
   s.current_stiffness = s.reference_compliance / compliance;
 }
@@ -293,7 +296,8 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
                   StageStrength<Dim>& strength, StageWater<Dim>& water, bool loads_ramp,
                   const std::filesystem::path& dump_tangent) {
   auto solver = make_implicit_solver(scene, loads_ramp ? 0.0 : 1.0);
-  if (s.measure_stiffness)
+  const bool measure_stiffness = s.measure_stiffness && rec.stage >= s.measure_stiffness_from_stage;
+  if (measure_stiffness)
     solver->measure_load_compliance();
   result.linear_solver = solver->linear_solver();
   const TimeSpec& time = scene.spec.time;
@@ -385,7 +389,7 @@ void run_implicit(Scene<Dim>& scene, Recorder<Dim>& rec, LoopState& s, RunResult
       max_iterations = std::max<Index>(max_iterations, r.iterations);
       s.t = t_end;
       ++s.step;
-      if (s.measure_stiffness) // NaN in dynamics: the solver measures quasi-static steps only
+      if (measure_stiffness) // NaN in dynamics: the solver measures quasi-static steps only
         note_compliance(s, solver->load_compliance());
       const bool stage_ends = watch.ends_after_step(scene.particles, s.t, step_dt);
       ask_stop(s, scene, rec.stage_start_time + s.t);

@@ -22,6 +22,7 @@ public:
     if (!weight_grows)
       from = table_after(spec, stages, static_cast<long>(k) - 1);
     scene_.water = PoreWater(from, table_after(spec, stages, static_cast<long>(k)));
+    scene_.water.set_undrained(stages[k].undrained);
   }
 
   /// Sets the water for a step from the fraction `start` of the stage to `progress`.

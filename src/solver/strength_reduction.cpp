@@ -32,7 +32,8 @@ double reduced_angle(double degrees, double factor) {
 
 // The files and the folder a search owns; --force replaces exactly these.
 constexpr const char* kTrialsDir = "trials";
-const char* const kFosEntries[] = {"fos.log", "fos.csv", "fos.json", "fos.png", kTrialsDir};
+const char* const kFosEntries[] = {"fos.log",         "fos.csv",         "fos.json", "fos.png",
+                                   "fos_history.csv", "fos_history.png", kTrialsDir};
 
 // A CSV field that may hold commas or quotes.
 std::string quoted(const std::string& text) {
@@ -124,10 +125,35 @@ void write_fos_json(const fs::path& file, const CaseSpec& spec, const FosRunResu
                                               : nlohmann::json()},
                     {"crest_displacement", t.crest_displacement()}});
   j["trial_ends"] = ends;
+  if (!r.history.empty()) {
+    nlohmann::json history = nlohmann::json::array();
+    for (const StageFactorOfSafety& h : r.history)
+      history.push_back(
+          {{"stage", h.stage},
+           {"time", h.time},
+           {"bracketed", h.fos.bracketed},
+           {"factor_of_safety", h.fos.bracketed ? nlohmann::json(h.fos.value()) : nlohmann::json()},
+           {"bracket", {h.fos.lower, h.fos.upper}},
+           {"message", h.fos.message}});
+    j["history"] = history;
+  }
   j["newton_iterations"] = r.newton_iterations;
   j["wall_seconds"] = r.wall_seconds;
   j["cpu_seconds"] = r.cpu_seconds;
   std::ofstream(file) << j.dump(2) << "\n";
+}
+
+void write_fos_history_csv(const fs::path& file, const std::vector<StageFactorOfSafety>& history) {
+  std::ofstream out(file);
+  out << "stage,time,lower,upper,factor_of_safety,bracketed,steps,seconds,message\n";
+  for (const StageFactorOfSafety& h : history) {
+    double seconds = 0;
+    for (const StrengthTrial& t : h.fos.trials)
+      seconds += t.seconds;
+    out << fmt::format("{},{:.10g},{:.10g},{:.10g},{:.10g},{},{},{:.4g},{}\n", h.stage, h.time,
+                       h.fos.lower, h.fos.upper, h.fos.value(), h.fos.bracketed ? 1 : 0,
+                       h.fos.trials.size(), seconds, quoted(h.fos.message));
+  }
 }
 
 /// Halves [fos.lower, fos.upper] (a standing and a failing factor) until it is within the
@@ -355,23 +381,44 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
       std::fflush(stdout);
     }
   };
-  if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
-    // Loaded at a lower factor again (a fresh run) while the loading fails above `floor`.
-    CaseSpec attempt = spec;
+  // Loaded at a lower factor again (a fresh run) while the loading fails above `floor`.
+  auto incremental = [&](CaseSpec attempt, const fs::path& dir) {
     StrengthReductionSpec& settings = *attempt.strength_reduction;
     double step = settings.upper - settings.lower;
     while (true) {
-      result.fos = incremental_factor_of_safety(
-          attempt, result.out_dir / kTrialsDir / "incremental", options, interrupted);
-      for (const StrengthTrial& t : result.fos.trials)
+      FactorOfSafety fos = incremental_factor_of_safety(attempt, dir, options, interrupted);
+      for (const StrengthTrial& t : fos.trials)
         log << fmt::format("step F = {:.6f}: {}\n", t.factor, t.reason);
-      const bool below = !result.fos.trials.empty() && result.fos.trials.front().failed;
+      const bool below = !fos.trials.empty() && fos.trials.front().failed;
       if (!below || interrupted || settings.lower <= options.floor)
-        break;
+        return fos;
       settings.lower = std::max(options.floor, settings.lower - step);
       step *= 2;
-      fs::remove_all(result.out_dir / kTrialsDir / "incremental");
+      fs::remove_all(dir);
     }
+  };
+  if (!spec.stages.empty()) { // the history to each stage searched after, then its search
+    for (const std::size_t k : spec.strength_reduction->after_stages) {
+      CaseSpec history = spec;
+      history.stages.resize(k + 1);
+      StageFactorOfSafety h;
+      h.stage = spec.stages[k].name;
+      for (const StageSpec& stage : history.stages)
+        h.time += stage.time.end_time;
+      log << fmt::format("# after stage '{}' (t = {:g} s)\n", h.stage, h.time);
+      h.fos = incremental(history, result.out_dir / kTrialsDir / ("after_" + h.stage));
+      log << fmt::format("# after stage '{}': {}\n", h.stage, h.fos.message);
+      if (ranks.root())
+        fmt::print("after stage '{}' (t = {:g} s): {}\n", h.stage, h.time, h.fos.message);
+      result.history.push_back(std::move(h));
+      if (interrupted)
+        break;
+    }
+    result.fos = result.history.back().fos;
+    for (const StageFactorOfSafety& h : result.history)
+      result.fos.bracketed = result.fos.bracketed && h.fos.bracketed;
+  } else if (spec.strength_reduction->mode == StrengthReductionMode::Incremental) {
+    result.fos = incremental(spec, result.out_dir / kTrialsDir / "incremental");
   } else {
     result.fos = search_factor_of_safety(*spec.strength_reduction, trial, on_trial, options.floor);
   }
@@ -382,6 +429,9 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
   }
   for (const StrengthTrial& t : result.fos.trials)
     result.newton_iterations += t.newton_iterations;
+  for (std::size_t k = 0; k + 1 < result.history.size(); ++k)
+    for (const StrengthTrial& t : result.history[k].fos.trials)
+      result.newton_iterations += t.newton_iterations;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
@@ -398,6 +448,12 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
          result.fos.bracketed ? "1" : "0",
          fmt::format("{:g}", spec.strength_reduction->min_stiffness),
          choice_word(strength_reduction_mode_choices(), spec.strength_reduction->mode)});
+    if (!result.history.empty()) {
+      write_fos_history_csv(result.out_dir / "fos_history.csv", result.history);
+      run_python_script("plot_fos_history.py",
+                        {(result.out_dir / "fos_history.csv").string(),
+                         (result.out_dir / "fos_history.png").string(), spec.name});
+    }
   });
   return result;
 }

@@ -41,6 +41,7 @@ VerificationCase breathing_cylinder();
 VerificationCase circular_footing();
 VerificationCase slope_fos();
 VerificationCase slope_drawdown();
+VerificationCase embankment_consolidation();
 VerificationCase slope_fos_refinement();
 VerificationCase slope_fos_refinement_c5_phi30();
 VerificationCase slope_fos_refinement_steep();

@@ -53,6 +53,7 @@ const std::vector<VerificationCase>& verification_cases() {
                                                       verify_cases::circular_footing(),
                                                       verify_cases::slope_fos(),
                                                       verify_cases::slope_drawdown(),
+                                                      verify_cases::embankment_consolidation(),
                                                       verify_cases::slope_fos_refinement(),
                                                       verify_cases::slope_fos_refinement_c5_phi30(),
                                                       verify_cases::slope_fos_refinement_steep(),

@@ -39,6 +39,11 @@ public:
   void set_progress(double f) { set_progress(f, f); }
   double progress() const { return progress_; }
 
+  /// Consolidation: no flow in this stage (StageSpec::undrained); the table still gives u and
+  /// the faces' free water.
+  void set_undrained(bool undrained) { undrained_ = undrained; }
+  bool undrained() const { return undrained_; }
+
   /// u at x, Pa (compression positive).
   template <int Dim> double pore_pressure(const Vec<Dim>& x) const {
     return blend([&](const WaterTable& w) { return w.pore_pressure<Dim>(x); }, 0.0);
@@ -66,6 +71,7 @@ private:
 
   std::optional<WaterTable> from_, to_;
   double progress_ = 1.0, start_ = 1.0;
+  bool undrained_ = false;
 };
 
 } // namespace talus

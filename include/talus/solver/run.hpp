@@ -61,6 +61,9 @@ struct RunOptions {
   /// Quasi-static steps measure the current stiffness (StepState::current_stiffness, the
   /// `current_stiffness` column of timeseries.csv): one more linear solve per step.
   bool measure_stiffness = false;
+  /// The stiffness is measured from this stage on (its first measured step the reference): a
+  /// history before it (a coupled one, whose u-p tangent is another stiffness) is not.
+  std::size_t measure_stiffness_from_stage = 0;
 };
 
 struct RunResult {

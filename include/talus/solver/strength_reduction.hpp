@@ -172,8 +172,18 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::fil
 /// newest checkpoint, and one without a checkpoint starts again.
 RunResult run_or_resume_trial(const CaseSpec& spec, RunOptions options, const FosOptions& search);
 
-struct FosRunResult {
+/// A staged case's search after one stage of its history (strength_reduction.after): the
+/// strength reduced from the state the stage left, the pore pressure held where it was.
+struct StageFactorOfSafety {
+  std::string stage;
+  double time = 0; ///< s, the history's time at the stage's end
   FactorOfSafety fos;
+};
+
+struct FosRunResult {
+  /// The search; of a staged case, the one after the last stage searched.
+  FactorOfSafety fos;
+  std::vector<StageFactorOfSafety> history; ///< a staged case: each stage's search, in order
   std::filesystem::path out_dir;
   double wall_seconds = 0;
   /// Processor time of the search (user + system, all threads): on a machine shared with other
@@ -186,8 +196,10 @@ struct FosRunResult {
 /// `talus fos`: runs the search on a case with a `strength_reduction` section. Each trial is a
 /// run in <out>/trials/F<factor>/ (run.h5, newton.log, ...); the search writes fos.log (one
 /// line per trial saying why it ended), fos.csv (crest displacement against F), fos.json and
-/// fos.png (scripts/plot_fos.py). An earlier search's directory is not overwritten without
-/// `force`.
+/// fos.png (scripts/plot_fos.py). A staged case runs one incremental search per stage searched
+/// after, in <out>/trials/after_<stage>/, and adds fos_history.csv and fos_history.png (the
+/// factor against time, scripts/plot_fos_history.py). An earlier search's directory is not
+/// overwritten without `force`.
 FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& options);
 
 } // namespace talus

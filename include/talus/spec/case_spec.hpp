@@ -369,6 +369,10 @@ struct StrengthReductionSpec {
   /// -, incremental mode: the smallest change of F a reduction step may be cut back to (the
   /// ramps' min_dt); none: tolerance / 64.
   std::optional<double> min_step;
+  /// A staged case (incremental mode only): the stages (indices into `stages`, ascending) at
+  /// whose end a search starts from the state the history left, the pore pressure held where
+  /// it is; the factor of safety against time (strength_reduction_history.cpp).
+  std::vector<std::size_t> after_stages;
   SourceLocation where;
 
   double smallest_step() const { return min_step.value_or(tolerance / 64.0); }
@@ -399,6 +403,10 @@ struct StageSpec {
   /// linearly from the previous stage's table (the case's before the first), a dynamic one
   /// sets it at its first step. Absent: the previous stage's.
   std::optional<WaterSpec> water;
+  /// Consolidation: no flow through the stage; the pore water carries the skeleton's volume
+  /// change where it is (a failure faster than the water drains, the strength-reduction ramps
+  /// after a coupled history). Set by `talus fos`, not read from a case.
+  bool undrained = false;
   SourceLocation where;
 };
 
