@@ -82,14 +82,12 @@ template <int Dim> void ask_stop(LoopState& s, const Scene<Dim>& scene, double t
 }
 
 /// The current stiffness after a converged quasi-static step whose compliance under its load
-/// is `compliance` (NaN: not measured, the last value stands), against the stiffest step
-/// measured so far (Bergan, Horrigmoe, Krakeland & Soreide 1978 take the first, the stiffest of
-/// a loading; a reduction that starts from a loaded state may take its first step softer, as it
-/// settles the imbalance the points' new places on the grid leave at a stage's start).
+/// is `compliance` (NaN: not measured, the last value stands); the first one measured is the
+/// reference (Bergan, Horrigmoe, Krakeland & Soreide 1978).
 inline void note_compliance(LoopState& s, double compliance) {
   if (!std::isfinite(compliance) || compliance <= 0)
     return;
-  if (!(compliance >= s.reference_compliance)) // also the first: the reference is NaN
+  if (!std::isfinite(s.reference_compliance))
     s.reference_compliance = compliance;
   s.current_stiffness = s.reference_compliance / compliance;
 }
