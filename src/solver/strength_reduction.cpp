@@ -13,6 +13,7 @@
 #include <cmath>
 #include <ctime>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -313,6 +314,24 @@ std::optional<RunResult> finished_run(const fs::path& dir) {
 
 } // namespace
 
+std::optional<std::string> undrained_dilatancy_warning(const CaseSpec& spec) {
+  if (!spec.consolidates() || !spec.strength_reduction ||
+      spec.strength_reduction->mode != StrengthReductionMode::Incremental)
+    return std::nullopt;
+  std::vector<std::string> dilatant;
+  for (const MaterialSpec& m : spec.materials) // as the search weakens it (Davis: associated)
+    if (const double psi = reduce_strength(m, 1.0, spec.strength_flow_rule).dilation_angle; psi > 0)
+      dilatant.push_back(fmt::format("'{}' (dilation angle {:g} deg)", m.name, psi));
+  if (dilatant.empty())
+    return std::nullopt;
+  return fmt::format("the strength is lowered undrained, and {} dilate{} as {} shear{}: the "
+                     "suction adds strength, and the factor may be well above that of a failure "
+                     "with drainage (docs/case-format.md, A staged case); give dilation_angle: 0 "
+                     "where undrained failure matters",
+                     fmt::join(dilatant, ", "), dilatant.size() == 1 ? "s" : "",
+                     dilatant.size() == 1 ? "it" : "they", dilatant.size() == 1 ? "s" : "");
+}
+
 RunResult run_or_resume_trial(const CaseSpec& spec, RunOptions options, const FosOptions& search) {
   if (search.resume && fs::exists(options.out_dir)) {
     if (auto finished = finished_run(options.out_dir))
@@ -359,6 +378,11 @@ FosRunResult run_factor_of_safety(const CaseSpec& spec, const FosOptions& option
                          ? fmt::format(" or the crest moves more than {:g} m",
                                        *spec.strength_reduction->displacement_limit)
                          : std::string());
+  if (const auto warning = undrained_dilatancy_warning(spec)) {
+    log << "# warning: " << *warning << "\n";
+    if (ranks.root())
+      fmt::print(stderr, "talus: warning: {}\n", *warning);
+  }
   bool interrupted = false;
   auto trial = [&](double factor) {
     if (interrupted) { // stop at once, the user asked to

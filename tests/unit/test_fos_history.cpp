@@ -6,6 +6,7 @@
 #include "talus/io/case_reader.hpp"
 #include "talus/io/results.hpp"
 #include "talus/solver/run.hpp"
+#include "talus/solver/strength_reduction.hpp"
 
 #include "cli_support.hpp"
 #include "scene_error_support.hpp"
@@ -136,6 +137,30 @@ TEST_F(UndrainedStage, AStageWithoutFlowKeepsEachPointsPressure) {
   EXPECT_LT(moved, 1e-3) << "the largest change of p over q";
   EXPECT_GT(mean_loaded, 0.9e3);
   EXPECT_LT(mean_draining, 0.3e3);
+}
+
+} // namespace
+
+namespace {
+
+// The incremental search of a consolidation case is undrained: a dilatant material gains
+// strength from suction, and the search says so, naming it; ψ = 0 and a dry case do not warn.
+// Davis's flow rule makes every reduced material associated, so it warns at ψ = 0 too.
+TEST(FosHistoryInput, AnUndrainedSearchWarnsOfDilatantMaterials) {
+  const std::string reduction = "strength_reduction: {probe: top, mode: incremental}\n";
+  const std::string dilatant = column(
+      "mohr_coulomb", ", cohesion: 1.0e4, friction_angle: 30, dilation_angle: 10", reduction);
+  const auto warning = undrained_dilatancy_warning(read_case_text(dilatant, "case.yaml"));
+  ASSERT_TRUE(warning.has_value());
+  EXPECT_TRUE(has(*warning, "'clay' (dilation angle 10 deg)")) << *warning;
+  EXPECT_FALSE(undrained_dilatancy_warning(read_case_text(frictional(reduction), "case.yaml")));
+  const std::string davis =
+      "strength_reduction: {probe: top, mode: incremental, flow_rule: davis}\n";
+  EXPECT_TRUE(undrained_dilatancy_warning(read_case_text(frictional(davis), "case.yaml")));
+  CaseSpec dry = read_case_text(dilatant, "case.yaml");
+  for (MaterialSpec& m : dry.materials)
+    m.flow.reset(); // no consolidation: the reduction is drained
+  EXPECT_FALSE(undrained_dilatancy_warning(dry));
 }
 
 } // namespace

@@ -193,6 +193,12 @@ struct FosRunResult {
   int exit_code = 0;           ///< 0 bracketed, 3 not bracketed, 1 interrupted
 };
 
+/// The incremental search of a consolidation case lowers the strength undrained: a material
+/// that dilates as it shears (psi > 0) sucks water and gains strength from the suction, so the
+/// factor overstates that of a failure with drainage. The warning that says so, naming those
+/// materials; none for another case.
+std::optional<std::string> undrained_dilatancy_warning(const CaseSpec& spec);
+
 /// `talus fos`: runs the search on a case with a `strength_reduction` section. Each trial is a
 /// run in <out>/trials/F<factor>/ (run.h5, newton.log, ...); the search writes fos.log (one
 /// line per trial saying why it ended), fos.csv (crest displacement against F), fos.json and
