@@ -173,7 +173,7 @@ FactorOfSafety incremental_factor_of_safety(const CaseSpec& spec, const std::fil
 RunResult run_or_resume_trial(const CaseSpec& spec, RunOptions options, const FosOptions& search);
 
 /// A staged case's search after one stage of its history (strength_reduction.after): the
-/// strength reduced from the state the stage left, the pore pressure held where it was.
+/// strength reduced from the state the stage left (undrained in consolidation).
 struct StageFactorOfSafety {
   std::string stage;
   double time = 0; ///< s, the history's time at the stage's end

@@ -370,8 +370,8 @@ struct StrengthReductionSpec {
   /// ramps' min_dt); none: tolerance / 64.
   std::optional<double> min_step;
   /// A staged case (incremental mode only): the stages (indices into `stages`, ascending) at
-  /// whose end a search starts from the state the history left, the pore pressure held where
-  /// it is; the factor of safety against time (strength_reduction_history.cpp).
+  /// whose end a search starts from the state the history left (undrained in consolidation);
+  /// the factor of safety against time (run_factor_of_safety, strength_reduction.cpp).
   std::vector<std::size_t> after_stages;
   SourceLocation where;
 
